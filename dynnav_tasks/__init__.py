@@ -1,0 +1,30 @@
+"""dynnav_tasks: ManiSkill navigation tasks in dynamic worlds.
+
+Importing the package registers every task with ManiSkill and gymnasium::
+
+    import gymnasium as gym
+    import dynnav_tasks
+
+    env = gym.make("DynNav-MovingTarget-v1", obs_mode="state")
+
+``dynnav_tasks.make`` does the same and, for an unknown task id, lists the valid ones.
+"""
+
+from __future__ import annotations
+
+from . import robot  # noqa: F401  (registers the agent)
+from . import tasks  # noqa: F401  (registers the tasks)
+from .errors import check_choice
+from .nav_env import NavEnv
+
+TASK_IDS = ("DynNav-MovingTarget-v1", "DynNav-MovingObstacles-v1")
+
+__all__ = ["NavEnv", "TASK_IDS", "make"]
+
+
+def make(task_id: str, **kwargs):
+    """``gymnasium.make(task_id, **kwargs)`` with a clear error for an unknown task id."""
+    import gymnasium as gym
+
+    check_choice(task_id, TASK_IDS, "task id")
+    return gym.make(task_id, **kwargs)

@@ -1,0 +1,186 @@
+"""Motion patterns for moving targets and obstacles.
+
+A world declares *what* moves and *how* with these small frozen specs; the environment turns
+each spec into a ``Mover`` when it loads and advances every mover once per control step. A
+spec may move several bodies together (``count``): a ``Route`` spaces its obstacles evenly
+along one loop and gives them one speed, so they never run into each other.
+
+All randomness (start phase, direction, speed) is drawn from the episode's random generator,
+so the same reset seed replays the same motion. Speeds are in metres per control step (the
+thesis's "m/dt").
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+
+Point = tuple[float, float]
+
+
+class Mover:
+    """Episode state of one motion spec; positions are arrays of shape (count, 2)."""
+
+    count = 1
+
+    def reset(self, rng: np.random.RandomState) -> np.ndarray:
+        """Start a new episode; return the positions."""
+        raise NotImplementedError
+
+    def advance(self, rng: np.random.RandomState) -> np.ndarray:
+        """Move one control step; return the new positions."""
+        raise NotImplementedError
+
+
+@dataclass(frozen=True)
+class Static:
+    """Does not move."""
+
+    at: Point
+    count = 1
+
+    def mover(self) -> Mover:
+        return _StaticMover(np.array([self.at], dtype=np.float64))
+
+    def extent(self) -> tuple[np.ndarray, np.ndarray]:
+        p = np.array(self.at, dtype=np.float64)
+        return p, p
+
+
+class _StaticMover(Mover):
+    def __init__(self, at: np.ndarray):
+        self.at = at
+
+    def reset(self, rng):
+        return self.at
+
+    def advance(self, rng):
+        return self.at
+
+
+@dataclass(frozen=True)
+class BackAndForth:
+    """Moves along the segment ``center +- amplitude * direction`` at a constant speed.
+
+    Each episode starts at a uniformly random point of the segment, heading either way.
+    """
+
+    center: Point
+    direction: Point
+    amplitude: float
+    speed: float
+    count = 1
+
+    def mover(self) -> Mover:
+        return _BackAndForthMover(self)
+
+    def extent(self) -> tuple[np.ndarray, np.ndarray]:
+        c, d = np.array(self.center, dtype=np.float64), _unit(self.direction)
+        a, b = c - self.amplitude * d, c + self.amplitude * d
+        return np.minimum(a, b), np.maximum(a, b)
+
+
+class _BackAndForthMover(Mover):
+    def __init__(self, spec: BackAndForth):
+        self.center = np.array(spec.center, dtype=np.float64)
+        self.direction = _unit(spec.direction)
+        self.amplitude = float(spec.amplitude)
+        self.speed = float(spec.speed)
+        self.offset = 0.0
+        self.sign = 1.0
+
+    def _position(self):
+        return (self.center + self.offset * self.direction)[None]
+
+    def reset(self, rng):
+        self.offset = rng.uniform(-self.amplitude, self.amplitude)
+        self.sign = 1.0 if rng.randint(2) else -1.0
+        return self._position()
+
+    def advance(self, rng):
+        a, s = self.amplitude, self.offset + self.sign * self.speed
+        while s > a or s < -a:  # reflect at the ends (more than once if fast and short)
+            s, self.sign = (2 * a - s, -1.0) if s > a else (-2 * a - s, 1.0)
+        self.offset = s
+        return self._position()
+
+
+@dataclass(frozen=True)
+class Route:
+    """``count`` bodies moving along a closed polyline, in the order of its waypoints.
+
+    Each episode draws one speed uniformly from ``speed_range`` (shared by the bodies) and a
+    uniformly random shift along the loop; the bodies stay evenly spaced.
+    """
+
+    waypoints: tuple[Point, ...]
+    speed_range: tuple[float, float]
+    count: int = 1
+
+    def _closed(self) -> np.ndarray:
+        return np.array(list(self.waypoints) + [self.waypoints[0]], dtype=np.float64)
+
+    def length(self) -> float:
+        return float(np.linalg.norm(np.diff(self._closed(), axis=0), axis=1).sum())
+
+    def position_at(self, s: float) -> np.ndarray:
+        """Point at arc length ``s`` (taken modulo the loop length) from the first waypoint."""
+        pts = self._closed()
+        seg = np.linalg.norm(np.diff(pts, axis=0), axis=1)
+        s = s % float(seg.sum())
+        i = int(np.searchsorted(np.cumsum(seg), s, side="right"))
+        i = min(i, len(seg) - 1)
+        s -= float(seg[:i].sum())
+        return pts[i] + (pts[i + 1] - pts[i]) * (s / seg[i])
+
+    def signed_area(self) -> float:
+        """Shoelace area of the loop: negative when it runs clockwise seen from above (z up)."""
+        p = np.array(self.waypoints, dtype=np.float64)
+        x, y = p[:, 0], p[:, 1]
+        return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+
+    def extent(self) -> tuple[np.ndarray, np.ndarray]:
+        p = np.array(self.waypoints, dtype=np.float64)
+        return p.min(axis=0), p.max(axis=0)
+
+    def mover(self) -> Mover:
+        return _RouteMover(self)
+
+
+class _RouteMover(Mover):
+    def __init__(self, spec: Route):
+        self.spec = spec
+        self.count = spec.count
+        self.length = spec.length()
+        self.spacing = self.length / spec.count
+        self.speed = 0.0
+        self.s = 0.0
+
+    def _positions(self):
+        return np.stack([self.spec.position_at(self.s + i * self.spacing) for i in range(self.count)])
+
+    def reset(self, rng):
+        lo, hi = self.spec.speed_range
+        self.speed = rng.uniform(lo, hi)
+        self.s = rng.uniform(0.0, self.length)
+        return self._positions()
+
+    def advance(self, rng):
+        self.s = (self.s + self.speed) % self.length
+        return self._positions()
+
+
+def _unit(v: Sequence[float]) -> np.ndarray:
+    v = np.asarray(v, dtype=np.float64)
+    n = float(np.linalg.norm(v))
+    if n == 0:
+        raise ValueError("a motion direction must be non-zero")
+    return v / n
+
+
+def wrap_angle(a):
+    """Wrap an angle (or array of angles) to [-pi, pi)."""
+    return (a + math.pi) % (2 * math.pi) - math.pi

@@ -1,0 +1,184 @@
+"""The five reward functions of the study, selected with ``reward_mode``.
+
+Every function reads the same ``RewardInputs`` (the step's before/after geometry) and the
+task's ``RewardParams``; each is defined here and nowhere else.
+
+Symbols: d1 = distance from the robot's centre to the target's centre; d2 = distance from
+the robot's centre to the nearest obstacle box (walls are not obstacles; infinite when the
+world has none); "near" means d2 <= ``obstacle_threshold``.
+
+=================================  ===========================================================
+reward_mode                        reward of a step that neither reaches nor collides
+=================================  ===========================================================
+``sparse`` (Eq. 3.1)               ``sparse_step`` (-0.01); reach +1, collision -1
+``distance`` (Eq. 4.2/4.3)         1 - exp(g d1') [- A / d2' when near]
+``distance_orientation`` (4.5)     1 - exp(g d1') - A / d2' when near, else 1 - exp(g d1') + r_o
+``distance_orientation_always``    1 - exp(g d1') + r_o [- A / d2' when near]   (default)
+(Eq. 4.6)
+``potential`` (Eq. 4.9)            gamma_p * Phi(s') - Phi(s), Phi = A_p / d1 [+ B_p / d2 near]
+=================================  ===========================================================
+
+All but ``sparse`` give +20 on reaching the target and -20 on a collision, alone (no
+shaping term is added on those steps). ``'`` marks the state after the step.
+
+Readings chosen where the thesis is ambiguous (each is tested in tests/test_rewards.py):
+
+* Eq. 4.1 writes ``1 - exp(-g d)`` (a reward between 0 and 1 that grows with distance) and
+  Eq. 4.2 ``1 - exp(+g d)``; only the second is a penalty that grows with distance, so it is
+  the one used, with g = 0.2 as the thesis settled on.
+* Eq. 4.4 defines r_o as the change of ``arctan((y - y_t) / (x - x_t))`` between steps: the
+  azimuth of the robot around the target, which does not change when the robot drives
+  straight at the target and so cannot reward "taking the action with direction toward the
+  target" as the text intends. We use the reading that does: the azimuth of the target *seen
+  from the robot*, relative to its heading, alpha = wrap(atan2(y_t - y, x_t - x) - yaw), and
+  r_o = (|alpha| - |alpha'|) * ``orientation_scale``: positive when a step turns the robot
+  towards the target, negative when it turns away.
+* Eq. 4.9's second branch reads ``gamma (A/d1' - A/d1)``, which is not a potential difference
+  and gives nothing for standing still, contradicting the text ("the agent will get penalty
+  even though it stays in the same position"). We use potential-based shaping as the text
+  describes, F = gamma_p * Phi(s') - Phi(s), with the obstacle term B_p / d2 in Phi only when
+  near an obstacle.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+
+REWARD_MODES = (
+    "distance_orientation_always",
+    "distance_orientation",
+    "distance",
+    "potential",
+    "sparse",
+)
+DEFAULT_REWARD_MODE = "distance_orientation_always"
+
+
+@dataclass(frozen=True)
+class RewardParams:
+    """Constants of the reward functions (defaults from the thesis where it gives them)."""
+
+    reach_reward: float = 20.0
+    """reward for reaching the target (all modes but sparse)"""
+    collision_reward: float = -20.0
+    """reward for a collision (all modes but sparse)"""
+    distance_gamma: float = 0.2
+    """g in 1 - exp(g d1) (thesis Fig. 6.7 picked 0.2)"""
+    obstacle_scale: float = 0.5
+    """A in -A / d2 (Eq. 4.5/4.6 use 0.5)"""
+    obstacle_threshold: float = 0.8
+    """d2 (m) at or below which the obstacle terms apply"""
+    orientation_scale: float = 1.0
+    """factor on r_o"""
+    potential_gamma: float = 0.9
+    """gamma_p of the potential shaping (Table 6.1: 0.9 was best)"""
+    potential_target: float = 1.0
+    """A_p > 0 in Phi = A_p / d1 + B_p / d2"""
+    potential_obstacle: float = -0.5
+    """B_p < 0 in Phi = A_p / d1 + B_p / d2"""
+    sparse_reach: float = 1.0
+    """sparse mode: reward for reaching the target"""
+    sparse_collision: float = -1.0
+    """sparse mode: reward for a collision"""
+    sparse_step: float = -0.01
+    """sparse mode: reward of every other step"""
+
+    @classmethod
+    def from_dict(cls, values: dict | None) -> "RewardParams":
+        values = dict(values or {})
+        known = {f.name for f in fields(cls)}
+        unknown = sorted(set(values) - known)
+        if unknown:
+            from .errors import close_matches_message
+
+            raise ValueError(
+                "unknown reward parameter(s) " + ", ".join(repr(u) for u in unknown) + "; "
+                + close_matches_message(unknown[0], sorted(known), "reward parameter")
+            )
+        return cls(**{k: float(v) for k, v in values.items()})
+
+
+@dataclass(frozen=True)
+class RewardInputs:
+    """What a reward function may look at for one step (``_prev`` = before the step)."""
+
+    d1: float
+    d1_prev: float
+    d2: float
+    d2_prev: float
+    bearing: float
+    """alpha' in radians, target azimuth seen from the robot relative to its heading"""
+    bearing_prev: float
+    reached: bool
+    collided: bool
+
+
+def _distance_term(x: RewardInputs, p: RewardParams) -> float:
+    return 1.0 - math.exp(p.distance_gamma * x.d1)
+
+
+def _near(d2: float, p: RewardParams) -> bool:
+    return d2 <= p.obstacle_threshold
+
+
+def _obstacle_term(x: RewardInputs, p: RewardParams) -> float:
+    return -p.obstacle_scale / x.d2 if _near(x.d2, p) else 0.0
+
+
+def orientation_term(x: RewardInputs, p: RewardParams) -> float:
+    """r_o: how much the step reduced the angle between heading and target direction."""
+    return (abs(x.bearing_prev) - abs(x.bearing)) * p.orientation_scale
+
+
+def potential(d1: float, d2: float, p: RewardParams) -> float:
+    """Phi(s) = A_p / d1 (+ B_p / d2 when near an obstacle)."""
+    phi = p.potential_target / d1
+    if _near(d2, p):
+        phi += p.potential_obstacle / d2
+    return phi
+
+
+def sparse(x: RewardInputs, p: RewardParams) -> float:
+    if x.collided:
+        return p.sparse_collision
+    if x.reached:
+        return p.sparse_reach
+    return p.sparse_step
+
+
+def distance(x: RewardInputs, p: RewardParams) -> float:
+    return _distance_term(x, p) + _obstacle_term(x, p)
+
+
+def distance_orientation(x: RewardInputs, p: RewardParams) -> float:
+    if _near(x.d2, p):
+        return _distance_term(x, p) + _obstacle_term(x, p)
+    return _distance_term(x, p) + orientation_term(x, p)
+
+
+def distance_orientation_always(x: RewardInputs, p: RewardParams) -> float:
+    return _distance_term(x, p) + orientation_term(x, p) + _obstacle_term(x, p)
+
+
+def potential_shaping(x: RewardInputs, p: RewardParams) -> float:
+    return p.potential_gamma * potential(x.d1, x.d2, p) - potential(x.d1_prev, x.d2_prev, p)
+
+
+_SHAPED = {
+    "distance": distance,
+    "distance_orientation": distance_orientation,
+    "distance_orientation_always": distance_orientation_always,
+    "potential": potential_shaping,
+}
+
+
+def compute_reward(mode: str, x: RewardInputs, p: RewardParams) -> float:
+    """The reward of one step under ``mode`` (one of ``REWARD_MODES``)."""
+    if mode == "sparse":
+        return sparse(x, p)
+    if x.collided:
+        return p.collision_reward
+    if x.reached:
+        return p.reach_reward
+    return _SHAPED[mode](x, p)

@@ -1,0 +1,53 @@
+from mani_skill.utils.registration import register_env
+
+from ..motion import Route, Static
+from ..nav_env import NavEnv
+from ..world import Arena, Obstacles, StartArea, World
+
+
+@register_env("DynNav-MovingObstacles-v1", max_episode_steps=NavEnv.max_episode_steps)
+class MovingObstaclesEnv(NavEnv):
+    """
+    **Task Description:**
+    Thesis world 5.3: two obstacles circle clockwise on a rectangular route that lies across
+    every way from the robot's start to the two static targets. The robot must cross the
+    route between the obstacles and reach the chosen target.
+
+    * arena: x and y in [-2, 4.5] m, walls 0.5 m high, coloured by side
+    * targets (one chosen per episode): (3, 3) and (3, 1), static
+    * moving obstacles: two 0.5 m x 0.5 m boxes on the clockwise loop
+      (0.6, 3.8) -> (2.0, 3.8) -> (2.0, -1.2) -> (0.6, -1.2), half a loop (6.4 m) apart,
+      at one speed per episode drawn uniformly from 0.05-0.5 m per step
+    * state (24): 16 lasers | robot x, y | target x, y | obstacle 1 x, y | obstacle 2 x, y
+      (the thesis's size 24: lasers and the positions of the robot and the obstacles, plus
+      the target's position, without which the robot could not tell the two targets apart)
+
+    **Randomizations:**
+    - the chosen target (uniform over the two)
+    - the obstacles' speed (uniform in [0.05, 0.5] m per step) and their common position
+      along the loop (uniform)
+    - the robot's start: x, y uniform in [-1.25, -0.75] m, heading uniform in [-pi, pi)
+
+    **Success Conditions:**
+    - the robot's centre is within 0.3 m of the chosen target's centre (reward +20)
+
+    **Failure Conditions:**
+    - any contact between the robot and a wall or obstacle (reward -20)
+    - 200 steps without success is a truncation (timeout), not a failure
+    """
+
+    world = World(
+        arena=Arena(x_range=(-2.0, 4.5), y_range=(-2.0, 4.5)),
+        targets=(Static((3.0, 3.0)), Static((3.0, 1.0))),
+        obstacles=(
+            Obstacles(
+                half_size=(0.25, 0.25),
+                motion=Route(
+                    waypoints=((0.6, 3.8), (2.0, 3.8), (2.0, -1.2), (0.6, -1.2)),
+                    speed_range=(0.05, 0.5),
+                    count=2,
+                ),
+            ),
+        ),
+        start=StartArea(x_range=(-1.25, -0.75), y_range=(-1.25, -0.75)),
+    )

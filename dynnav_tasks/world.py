@@ -1,0 +1,121 @@
+"""Declarative description of a navigation world: arena, obstacles, targets, start area.
+
+A task file builds one ``World`` from these pieces; ``NavEnv`` turns it into a SAPIEN scene.
+Coordinates are metres in the world frame (right-handed, z up). Obstacles are boxes standing
+on the floor, tall enough (0.5 m) for the laser plane (0.30 m) to hit them; targets are flat
+discs with no collision shape.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Union
+
+import numpy as np
+
+from .motion import BackAndForth, Route, Static
+
+Motion = Union[Static, BackAndForth, Route]
+RGBA = tuple[float, float, float, float]
+
+# Walls are coloured by side so a camera can tell directions apart.
+WALL_COLORS: dict[str, RGBA] = {
+    "north": (0.15, 0.35, 0.85, 1.0),  # y = y_max: blue
+    "south": (0.95, 0.80, 0.10, 1.0),  # y = y_min: yellow
+    "east": (0.20, 0.70, 0.30, 1.0),  # x = x_max: green
+    "west": (0.60, 0.30, 0.75, 1.0),  # x = x_min: purple
+}
+STATIC_OBSTACLE_COLOR: RGBA = (0.25, 0.45, 0.90, 1.0)
+MOVING_OBSTACLE_COLOR: RGBA = (0.95, 0.75, 0.15, 1.0)
+TARGET_COLOR: RGBA = (0.90, 0.05, 0.05, 1.0)
+FLOOR_COLOR: RGBA = (0.82, 0.82, 0.80, 1.0)
+
+
+@dataclass(frozen=True)
+class Arena:
+    """A rectangular floor closed by four walls whose inner faces lie on the given ranges."""
+
+    x_range: tuple[float, float]
+    y_range: tuple[float, float]
+    wall_thickness: float = 0.1
+    wall_height: float = 0.5
+
+    @property
+    def center(self) -> np.ndarray:
+        return np.array([sum(self.x_range) / 2, sum(self.y_range) / 2])
+
+    @property
+    def size(self) -> np.ndarray:
+        return np.array([self.x_range[1] - self.x_range[0], self.y_range[1] - self.y_range[0]])
+
+    def walls(self) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+        """Wall name -> (centre xy, half size xy), walls overlapping at the corners."""
+        (x0, x1), (y0, y1), t = self.x_range, self.y_range, self.wall_thickness
+        cx, cy = self.center
+        hx, hy = (x1 - x0) / 2 + t, (y1 - y0) / 2 + t
+        return {
+            "north": (np.array([cx, y1 + t / 2]), np.array([hx, t / 2])),
+            "south": (np.array([cx, y0 - t / 2]), np.array([hx, t / 2])),
+            "east": (np.array([x1 + t / 2, cy]), np.array([t / 2, hy])),
+            "west": (np.array([x0 - t / 2, cy]), np.array([t / 2, hy])),
+        }
+
+
+@dataclass(frozen=True)
+class Obstacles:
+    """One or more box obstacles of one size, placed or moved by ``motion``."""
+
+    half_size: tuple[float, float]
+    motion: Motion
+    height: float = 0.5
+
+    @property
+    def moving(self) -> bool:
+        return not isinstance(self.motion, Static)
+
+    @property
+    def count(self) -> int:
+        return self.motion.count
+
+
+@dataclass(frozen=True)
+class StartArea:
+    """Where the robot starts: uniform in the rectangle, heading uniform in ``yaw_range``."""
+
+    x_range: tuple[float, float]
+    y_range: tuple[float, float]
+    yaw_range: tuple[float, float] = (-math.pi, math.pi)
+
+    def sample(self, rng: np.random.RandomState) -> tuple[float, float, float]:
+        return (
+            float(rng.uniform(*self.x_range)),
+            float(rng.uniform(*self.y_range)),
+            float(rng.uniform(*self.yaw_range)),
+        )
+
+
+@dataclass(frozen=True)
+class World:
+    """Everything a navigation task places in its scene.
+
+    ``targets`` lists candidate targets (each a one-body motion); one is chosen uniformly per
+    episode. ``obstacles`` lists obstacle groups; the positions of moving obstacles enter the
+    state vector in the order listed.
+    """
+
+    arena: Arena
+    targets: tuple[Motion, ...]
+    obstacles: tuple[Obstacles, ...] = field(default_factory=tuple)
+    start: StartArea = StartArea((-0.25, 0.25), (-0.25, 0.25))
+
+    def __post_init__(self):
+        if not self.targets:
+            raise ValueError("a World needs at least one target")
+        for t in self.targets:
+            if t.count != 1:
+                raise ValueError(f"each target moves one body; got count={t.count} in {t}")
+
+    @property
+    def moving_obstacle_count(self) -> int:
+        return sum(o.count for o in self.obstacles if o.moving)
