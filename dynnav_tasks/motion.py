@@ -26,11 +26,11 @@ class Mover:
 
     count = 1
 
-    def reset(self, rng: np.random.RandomState) -> np.ndarray:
+    def reset(self, rng: np.random.Generator) -> np.ndarray:
         """Start a new episode; return the positions."""
         raise NotImplementedError
 
-    def advance(self, rng: np.random.RandomState) -> np.ndarray:
+    def advance(self, rng: np.random.Generator) -> np.ndarray:
         """Move one control step; return the new positions."""
         raise NotImplementedError
 
@@ -97,7 +97,7 @@ class _BackAndForthMover(Mover):
 
     def reset(self, rng):
         self.offset = rng.uniform(-self.amplitude, self.amplitude)
-        self.sign = 1.0 if rng.randint(2) else -1.0
+        self.sign = 1.0 if rng.integers(2) else -1.0
         return self._position()
 
     def advance(self, rng):

@@ -28,6 +28,7 @@ from __future__ import annotations
 import math
 from typing import Any, ClassVar, Optional
 
+import gymnasium as gym
 import numpy as np
 import sapien
 import torch
@@ -67,6 +68,7 @@ def box_distance(point: np.ndarray, centers: np.ndarray, half_sizes: np.ndarray)
 class NavEnv(BaseEnv):
     """Base class of the dynnav navigation tasks (not registered itself)."""
 
+    metadata = {"render_modes": ["rgb_array"], "render_fps": 5}
     SUPPORTED_ROBOTS = [DiffBot.uid]
     SUPPORTED_OBS_MODES = OBS_MODES
     SUPPORTED_REWARD_MODES = R.REWARD_MODES
@@ -174,7 +176,7 @@ class NavEnv(BaseEnv):
         for g, group in enumerate(world.obstacles):
             mover = group.motion.mover()
             color = MOVING_OBSTACLE_COLOR if group.moving else STATIC_OBSTACLE_COLOR
-            start = mover.reset(np.random.RandomState(0))
+            start = mover.reset(np.random.default_rng(0))
             bodies = []
             for i in range(group.count):
                 actor = self._box_actor(f"obstacle{g}_{i}", start[i], group.half_size, group.height, color, group.moving)
@@ -219,10 +221,10 @@ class NavEnv(BaseEnv):
 
     # ------------------------------------------------------------------ episodes
     def _initialize_episode(self, env_idx: torch.Tensor, options: dict):
-        rng = self._batched_episode_rng[0]
+        rng = self.np_random
         self._episode_index += 1
         world = self.world
-        self._target_index = int(rng.randint(len(world.targets)))
+        self._target_index = int(rng.integers(len(world.targets)))
         self._target_xy = None
         for t, (mover, entity) in enumerate(self._targets):
             xy = mover.reset(rng)[0]
@@ -296,14 +298,14 @@ class NavEnv(BaseEnv):
         )
 
     def _advance_movers(self) -> np.ndarray:
-        rng = self._batched_episode_rng[0]
+        rng = self.np_random
         if not self._movers:
             return self._moving_xy
         return np.concatenate([mover.advance(rng) for mover, _ in self._movers])
 
     def _advance_targets(self):
         mover, entity = self._targets[self._target_index]
-        xy = mover.advance(self._batched_episode_rng[0])[0]
+        xy = mover.advance(self.np_random)[0]
         if xy[0] != self._target_xy[0] or xy[1] != self._target_xy[1]:
             entity.set_pose(sapien.Pose([xy[0], xy[1], 0.0]))
         self._target_xy = xy
@@ -337,6 +339,14 @@ class NavEnv(BaseEnv):
 
     # ------------------------------------------------------------------ ManiSkill API
     def reset(self, seed=None, options=None):
+        """Reset; a seed makes the episode (start, target, motions) replay bit for bit.
+
+        All of the task's randomness comes from gymnasium's ``self.np_random``, seeded here
+        as ``gymnasium.Env.reset`` does (an unseeded reset continues the generator).
+        """
+        if isinstance(seed, (list, tuple, np.ndarray)):  # ManiSkill's batched form
+            seed = int(seed[0])
+        gym.Env.reset(self, seed=seed)
         self._step_count = 0
         self._robot_xy = None
         return super().reset(seed=seed, options=options)

@@ -87,7 +87,7 @@ class StartArea:
     y_range: tuple[float, float]
     yaw_range: tuple[float, float] = (-math.pi, math.pi)
 
-    def sample(self, rng: np.random.RandomState) -> tuple[float, float, float]:
+    def sample(self, rng: np.random.Generator) -> tuple[float, float, float]:
         return (
             float(rng.uniform(*self.x_range)),
             float(rng.uniform(*self.y_range)),

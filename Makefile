@@ -1,0 +1,25 @@
+# dynnav: `make demo` runs the main job, `make test` runs the tests. Both create or refresh
+# .venv first (scripts/setup.sh: CPU torch, the project, and a Vulkan driver if missing).
+VENV ?= .venv
+PY := $(VENV)/bin/python
+TASK ?= DynNav-MovingTarget-v1
+
+.PHONY: setup demo test bench pictures clean
+
+setup:
+	@bash scripts/setup.sh
+
+demo: setup
+	$(PY) -m dynnav_tasks.demo --task $(TASK)
+
+test: setup
+	$(PY) -m pytest -q tests
+
+bench: setup
+	$(PY) benchmarks/env_throughput.py
+
+pictures: setup
+	$(PY) -m dynnav_tasks.pictures
+
+clean:
+	rm -rf $(VENV) .pytest_cache
