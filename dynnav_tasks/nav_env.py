@@ -26,6 +26,7 @@ Step
 from __future__ import annotations
 
 import math
+from functools import cached_property
 from typing import Any, ClassVar, Optional
 
 import gymnasium as gym
@@ -41,6 +42,7 @@ from . import rewards as R
 from .errors import check_choice
 from .lasers import LaserRing
 from .motion import wrap_angle
+from .vulkan import explain, is_vulkan_error
 from .robot import FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH, LASER_HEIGHT, DiffBot, DriveConfig
 from .world import (
     FLOOR_COLOR,
@@ -145,6 +147,15 @@ class NavEnv(BaseEnv):
         fov = 2 * math.atan(extent / (height - arena.wall_height))
         return CameraConfig("top_down", pose=pose, width=512, height=512, fov=fov, near=0.1, far=20)
 
+    @cached_property
+    def single_observation_space(self) -> gym.spaces.Box:
+        """Lasers in [0, range]; every position within the arena's walls."""
+        (x0, x1), (y0, y1) = self.world.arena.x_range, self.world.arena.y_range
+        n_pos = (self.world.moving_obstacle_count + 2)
+        low = np.array([0.0] * len(self._lasers.angles) + [x0, y0] * n_pos, dtype=np.float32)
+        high = np.array([self._lasers.max_range] * len(self._lasers.angles) + [x1, y1] * n_pos, dtype=np.float32)
+        return gym.spaces.Box(low, high, dtype=np.float32)
+
     def state_layout(self) -> list[tuple[str, int]]:
         """Names and sizes of the parts of the state vector, in order."""
         layout = [("lasers", len(self._lasers.angles)), ("robot_xy", 2), ("target_xy", 2)]
@@ -152,6 +163,14 @@ class NavEnv(BaseEnv):
         return layout
 
     # ------------------------------------------------------------------ scene
+    def _setup_scene(self):
+        try:
+            super()._setup_scene()
+        except RuntimeError as err:
+            if is_vulkan_error(err):
+                raise explain(err) from err
+            raise
+
     def _load_agent(self, options: dict):
         super()._load_agent(options, sapien.Pose())
         self.agent.controller.configure(self.drive_config)
@@ -161,6 +180,7 @@ class NavEnv(BaseEnv):
         arena = world.arena
         # floor: visual only (nothing rests on it, so it needs no collision shape)
         b = self.scene.create_actor_builder()
+        b.initial_pose = sapien.Pose()
         b.add_box_visual(
             sapien.Pose([*arena.center, -0.01]),
             half_size=[*(arena.size / 2 + arena.wall_thickness), 0.01],
