@@ -7,8 +7,9 @@ collisions from PhysX contacts, computes the reward and ends episodes.
 Episode rules
     * success: the robot's centre comes within ``reach_radius`` (0.3 m) of the chosen
       target's centre; the episode terminates.
-    * collision: any PhysX contact between the robot (chassis or wheels) and a wall or an
-      obstacle, with separation <= ``collision_margin`` (5 mm); the episode terminates.
+    * collision: a PhysX contact between the robot (chassis or wheels) and a wall or an
+      obstacle that either pushed them apart (non-zero impulse) or has a separation of at
+      most ``collision_margin`` (5 mm); the episode terminates.
     * timeout: ``max_episode_steps`` (200) steps without either; the episode is truncated,
       not terminated.
 
@@ -353,8 +354,10 @@ class NavEnv(BaseEnv):
         for contact in self._px.get_contacts():
             a, b = contact.bodies
             if (a in robot) != (b in robot):  # robot against anything else
-                if any(p.separation <= self.collision_margin for p in contact.points):
-                    return True
+                for p in contact.points:
+                    # touching, or the solver had to push them apart during the step
+                    if p.separation <= self.collision_margin or np.any(p.impulse):
+                        return True
         return False
 
     # ------------------------------------------------------------------ ManiSkill API
