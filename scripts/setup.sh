@@ -42,9 +42,7 @@ if [ ! -f "$VENV/.dynnav-vulkan-ok" ]; then
     if is_root && command -v apt-get >/dev/null; then
       echo "No working Vulkan device: installing Mesa's lavapipe from bookworm-backports."
       echo 'deb http://deb.debian.org/debian bookworm-backports main' > /etc/apt/sources.list.d/bookworm-backports.list
-      apt_updated=
-      apt_install ca-certificates
-      if [ -z "$apt_updated" ]; then apt-get update -qq; apt_updated=1; fi
+      apt-get update -qq
       DEBIAN_FRONTEND=noninteractive apt-get install -y -qq -t bookworm-backports mesa-vulkan-drivers libvulkan1
       "$VENV/bin/python" -m dynnav_tasks.vulkan
     else

@@ -1,0 +1,140 @@
+"""Environment throughput: steps/s of every dynnav task under a random policy, beside two
+baselines measured in the same run on the same core:
+
+* ManiSkill's own ``PushCube-v1`` (obs_mode="state", CPU simulation), and
+* a raw SAPIEN loop: one PhysX step, 16 ray casts and 2 kinematic obstacle pose updates per
+  iteration, with no ManiSkill and no gymnasium (the floor under any task's step).
+
+    python benchmarks/env_throughput.py [--steps 5000] [--no-pin]
+
+Every figure is wall-clock steps per second, resets included, through the wrappers a user
+gets (``gym.make`` + ManiSkill's ``CPUGymWrapper``). The process is pinned to one CPU core
+and to one torch thread unless ``--no-pin``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import platform
+import time
+
+import numpy as np
+
+
+def pin_one_core() -> str:
+    if hasattr(os, "sched_setaffinity"):
+        core = sorted(os.sched_getaffinity(0))[0]
+        os.sched_setaffinity(0, {core})
+        return f"pinned to core {core}"
+    return "not pinned (no sched_setaffinity)"
+
+
+def cpu_name() -> str:
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or "unknown CPU"
+
+
+def gym_steps_per_second(task_id: str, steps: int, **kwargs) -> float:
+    import gymnasium as gym
+    from mani_skill.utils.wrappers.gymnasium import CPUGymWrapper
+
+    env = CPUGymWrapper(gym.make(task_id, **kwargs))
+    env.reset(seed=0)
+    space = env.action_space
+    space.seed(0)
+    actions = [space.sample() for _ in range(steps)]
+    for a in actions[:100]:  # warm up
+        _, _, terminated, truncated, _ = env.step(a)
+        if terminated or truncated:
+            env.reset()
+    env.reset(seed=1)
+    t0 = time.perf_counter()
+    for a in actions:
+        _, _, terminated, truncated, _ = env.step(a)
+        if terminated or truncated:
+            env.reset()
+    rate = steps / (time.perf_counter() - t0)
+    env.close()
+    return rate
+
+
+def raw_sapien_steps_per_second(steps: int) -> float:
+    """PhysX step + 16 rays + 2 kinematic obstacle updates, in a physics-only SAPIEN scene."""
+    import sapien
+
+    px = sapien.physx.PhysxCpuSystem()
+    px.timestep = 0.05
+    scene = sapien.Scene([px])
+    for cx, cy, hx, hy in [(1.25, 4.55, 3.35, 0.05), (1.25, -2.05, 3.35, 0.05), (4.55, 1.25, 0.05, 3.35), (-2.05, 1.25, 0.05, 3.35)]:
+        b = scene.create_actor_builder()
+        b.add_box_collision(half_size=[hx, hy, 0.25])
+        b.set_physx_body_type("static")
+        b.build().set_pose(sapien.Pose([cx, cy, 0.25]))
+    obstacles = []
+    for i in range(2):
+        b = scene.create_actor_builder()
+        b.add_box_collision(half_size=[0.25, 0.25, 0.25])
+        b.set_physx_body_type("kinematic")
+        e = b.build()
+        e.set_pose(sapien.Pose([1.0, 1.0 + 2 * i, 0.25]))
+        obstacles.append(e.find_component_by_type(sapien.physx.PhysxRigidDynamicComponent))
+    b = scene.create_actor_builder()
+    b.add_box_collision(half_size=[0.225, 0.19, 0.1])
+    b.set_physx_body_type("dynamic")
+    robot = b.build()
+    robot.set_pose(sapien.Pose([-1.0, -1.0, 0.16]))
+    angles = 2 * math.pi * np.arange(16) / 16
+    dirs = np.stack([np.cos(angles), np.sin(angles), np.zeros(16)], axis=1).astype(np.float32)
+    origins = np.array([-1.0, -1.0, 0.3], dtype=np.float32) + 0.3 * dirs
+    t0 = time.perf_counter()
+    for k in range(steps):
+        y = 1.0 + 0.5 * math.sin(0.05 * k)
+        for i, body in enumerate(obstacles):
+            body.set_kinematic_target(sapien.Pose([1.0, y + 2 * i, 0.25]))
+        px.step()
+        for o, d in zip(origins, dirs):
+            px.raycast(o, d, 4.7)
+    return steps / (time.perf_counter() - t0)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--steps", type=int, default=5000, help="steps per measurement (default 5000)")
+    parser.add_argument("--no-pin", action="store_true", help="do not pin the process to one core")
+    args = parser.parse_args()
+
+    pinned = "not pinned" if args.no_pin else pin_one_core()
+    import torch
+
+    torch.set_num_threads(1)
+    import mani_skill
+    import sapien
+
+    import dynnav_tasks
+
+    print(f"machine: {cpu_name()}, {os.cpu_count()} cores ({pinned}), torch threads 1")
+    print(f"python {platform.python_version()}, sapien {sapien.__version__}, mani_skill {mani_skill.__version__}, torch {torch.__version__}")
+    print(f"{args.steps} steps per figure, random actions, resets included\n")
+
+    rows = [("raw SAPIEN loop (PhysX step + 16 rays + 2 kinematic updates)", raw_sapien_steps_per_second(args.steps))]
+    rows.append(("ManiSkill PushCube-v1 (state, CPU)", gym_steps_per_second("PushCube-v1", args.steps, obs_mode="state", render_backend="cpu")))
+    for task_id in dynnav_tasks.TASK_IDS:
+        rows.append((f"{task_id} (state)", gym_steps_per_second(task_id, args.steps)))
+
+    push = rows[1][1]
+    width = max(len(name) for name, _ in rows)
+    print(f"{'environment':<{width}}  {'steps/s':>9}  {'x PushCube':>10}")
+    for name, rate in rows:
+        print(f"{name:<{width}}  {rate:>9.0f}  {rate / push:>10.1f}")
+
+
+if __name__ == "__main__":
+    main()

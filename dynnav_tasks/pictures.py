@@ -1,0 +1,96 @@
+"""Top-down pictures of every task, rendered by the task itself, for the README.
+
+    python -m dynnav_tasks.pictures --out docs/images
+
+Each picture is the task's top-down camera (all candidate targets shown as red discs) with
+the motion of targets (dark red) and obstacles (orange) drawn over it, and the start area
+(white rectangle).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import tyro
+from PIL import Image, ImageDraw
+
+from .motion import BackAndForth, Route
+
+TARGET_PATH = (120, 0, 0)
+OBSTACLE_PATH = (255, 140, 0)
+START_AREA = (255, 255, 255)
+
+
+@dataclass
+class Args:
+    out: Path = Path("docs/images")
+    """folder to write <task>.png into"""
+    seed: int = 0
+    """reset seed of the pictured episode"""
+
+
+def _motion_lines(motion) -> list[np.ndarray]:
+    if isinstance(motion, BackAndForth):
+        lo, hi = motion.extent()
+        c, d = np.array(motion.center), np.array(motion.direction, dtype=float)
+        d /= np.linalg.norm(d)
+        return [np.stack([c - motion.amplitude * d, c + motion.amplitude * d])]
+    if isinstance(motion, Route):
+        pts = np.array(list(motion.waypoints) + [motion.waypoints[0]], dtype=float)
+        return [pts]
+    return []
+
+
+def _arrow(draw, a, b, color, width):
+    draw.line([tuple(a), tuple(b)], fill=color, width=width)
+    d = np.asarray(b, float) - np.asarray(a, float)
+    n = np.linalg.norm(d)
+    if n < 1e-6:
+        return
+    d /= n
+    mid = (np.asarray(a) + np.asarray(b)) / 2
+    left = mid - 10 * d + 6 * np.array([-d[1], d[0]])
+    right = mid - 10 * d - 6 * np.array([-d[1], d[0]])
+    draw.polygon([tuple(mid), tuple(left), tuple(right)], fill=color)
+
+
+def annotated_top_down(env) -> Image.Image:
+    """The task's top-down render with its motions and start area drawn on."""
+    base = env.unwrapped
+    img = Image.fromarray(base.render_top_down(show_all_targets=True))
+    draw = ImageDraw.Draw(img)
+    px = base.top_down_pixel
+    for target in base.world.targets:
+        for line in _motion_lines(target):
+            pts = [px(*p) for p in line]
+            draw.line(pts, fill=TARGET_PATH, width=3)
+    for group in base.world.obstacles:
+        for line in _motion_lines(group.motion):
+            pts = [px(*p) for p in line]
+            for a, b in zip(pts[:-1], pts[1:]):
+                _arrow(draw, a, b, OBSTACLE_PATH, 3)
+    s = base.world.start
+    (c0, r0), (c1, r1) = px(s.x_range[0], s.y_range[1]), px(s.x_range[1], s.y_range[0])
+    draw.rectangle([c0, r0, c1, r1], outline=START_AREA, width=2)
+    return img
+
+
+def main(args: Args) -> None:
+    from mani_skill.utils.wrappers.gymnasium import CPUGymWrapper
+
+    import dynnav_tasks
+
+    args.out.mkdir(parents=True, exist_ok=True)
+    for task_id in dynnav_tasks.TASK_IDS:
+        env = CPUGymWrapper(dynnav_tasks.make(task_id))
+        env.reset(seed=args.seed)
+        path = args.out / f"{task_id}.png"
+        annotated_top_down(env).save(path)
+        print(f"wrote {path}")
+        env.close()
+
+
+if __name__ == "__main__":
+    main(tyro.cli(Args))
