@@ -36,7 +36,10 @@ def main(args: Args) -> None:
     import dynnav_tasks
     from mani_skill.utils.wrappers.gymnasium import CPUGymWrapper
 
-    env = CPUGymWrapper(dynnav_tasks.make(args.task, reward_mode=args.reward_mode))
+    try:
+        env = CPUGymWrapper(dynnav_tasks.make(args.task, reward_mode=args.reward_mode))
+    except ValueError as err:
+        raise SystemExit(f"error: {err}")
     rng = np.random.default_rng(args.seed)
     print(f"{args.task}: random policy, {args.episodes} episodes, reward_mode={args.reward_mode}")
     print(f"{'episode':>7} {'seed':>6} {'outcome':>9} {'steps':>5} {'return':>8} {'path m':>7} {'to target m':>11}")

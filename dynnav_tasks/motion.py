@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Sequence
 
 import numpy as np
@@ -120,21 +121,25 @@ class Route:
     speed_range: tuple[float, float]
     count: int = 1
 
-    def _closed(self) -> np.ndarray:
-        return np.array(list(self.waypoints) + [self.waypoints[0]], dtype=np.float64)
+    @cached_property
+    def _geometry(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Closed loop points, segment lengths and cumulative lengths (computed once)."""
+        pts = np.array(list(self.waypoints) + [self.waypoints[0]], dtype=np.float64)
+        seg = np.linalg.norm(np.diff(pts, axis=0), axis=1)
+        if np.any(seg == 0):
+            raise ValueError(f"a Route's consecutive waypoints must differ: {self.waypoints}")
+        return pts, seg, np.cumsum(seg)
 
     def length(self) -> float:
-        return float(np.linalg.norm(np.diff(self._closed(), axis=0), axis=1).sum())
+        return float(self._geometry[2][-1])
 
     def position_at(self, s: float) -> np.ndarray:
         """Point at arc length ``s`` (taken modulo the loop length) from the first waypoint."""
-        pts = self._closed()
-        seg = np.linalg.norm(np.diff(pts, axis=0), axis=1)
-        s = s % float(seg.sum())
-        i = int(np.searchsorted(np.cumsum(seg), s, side="right"))
-        i = min(i, len(seg) - 1)
-        s -= float(seg[:i].sum())
-        return pts[i] + (pts[i + 1] - pts[i]) * (s / seg[i])
+        pts, seg, cum = self._geometry
+        s = s % float(cum[-1])
+        i = min(int(np.searchsorted(cum, s, side="right")), len(seg) - 1)
+        start = float(cum[i] - seg[i])
+        return pts[i] + (pts[i + 1] - pts[i]) * ((s - start) / seg[i])
 
     def signed_area(self) -> float:
         """Shoelace area of the loop: negative when it runs clockwise seen from above (z up)."""

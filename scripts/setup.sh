@@ -19,6 +19,10 @@ if ! command -v "$PYTHON" >/dev/null 2>&1 || ! "$PYTHON" -c 'import sys; assert 
   if is_root && command -v apt-get >/dev/null; then apt_install python3 python3-venv python3-dev; PYTHON=python3
   else echo "dynnav needs Python 3.11 (Debian 12: apt-get install python3 python3-venv); set PYTHON=/path/to/python3.11" >&2; exit 1; fi
 fi
+if [ -d "$VENV" ] && ! "$VENV/bin/python" -m pip --version >/dev/null 2>&1; then
+  echo "$VENV is broken (no working pip): recreating it."
+  rm -rf "$VENV"
+fi
 if [ ! -x "$VENV/bin/python" ]; then
   if ! "$PYTHON" -m venv "$VENV" 2>/dev/null; then
     rm -rf "$VENV"
