@@ -17,7 +17,14 @@ from . import tasks  # noqa: F401  (registers the tasks)
 from .errors import check_choice
 from .nav_env import NavEnv
 
-TASK_IDS = ("DynNav-MovingTarget-v1", "DynNav-MovingObstacles-v1")
+def _registered_tasks() -> tuple[str, ...]:
+    from mani_skill.utils.registration import REGISTERED_ENVS
+
+    return tuple(uid for uid, spec in REGISTERED_ENVS.items() if issubclass(spec.cls, NavEnv))
+
+
+TASK_IDS = _registered_tasks()
+"""Every dynnav task id, in the thesis's order of worlds (5.1, 5.2, 5.3, 5.4a-c, 5.5a-c)."""
 
 __all__ = ["NavEnv", "TASK_IDS", "make"]
 

@@ -178,6 +178,65 @@ class _RouteMover(Mover):
         return self._positions()
 
 
+@dataclass(frozen=True)
+class RandomInRect:
+    """Wanders inside a rectangle (the thesis's random motion in a motion area).
+
+    Every step the heading turns by an angle uniform in ``+-max_turn`` and the body moves a
+    distance uniform in ``speed_range``; it bounces off the rectangle's edges, so its centre
+    never leaves ``x_range`` x ``y_range``. An episode starts at ``start`` (default: uniform
+    in the rectangle) with a uniform heading.
+    """
+
+    x_range: tuple[float, float]
+    y_range: tuple[float, float]
+    speed_range: tuple[float, float] = (0.05, 0.5)
+    max_turn: float = math.pi / 4
+    start: Point | None = None
+    count = 1
+
+    def __post_init__(self):
+        if not (self.x_range[0] < self.x_range[1] and self.y_range[0] < self.y_range[1]):
+            raise ValueError(f"RandomInRect needs low < high in both ranges, got {self.x_range}, {self.y_range}")
+
+    def mover(self) -> Mover:
+        return _RandomInRectMover(self)
+
+    def extent(self) -> tuple[np.ndarray, np.ndarray]:
+        return np.array([self.x_range[0], self.y_range[0]]), np.array([self.x_range[1], self.y_range[1]])
+
+
+class _RandomInRectMover(Mover):
+    def __init__(self, spec: RandomInRect):
+        self.spec = spec
+        self.low, self.high = spec.extent()
+        self.p = np.zeros(2)
+        self.heading = 0.0
+
+    def reset(self, rng):
+        if self.spec.start is None:
+            self.p = rng.uniform(self.low, self.high)
+        else:
+            self.p = np.array(self.spec.start, dtype=np.float64)
+        self.heading = rng.uniform(-math.pi, math.pi)
+        return self.p[None].copy()
+
+    def advance(self, rng):
+        s = self.spec
+        self.heading += rng.uniform(-s.max_turn, s.max_turn)
+        step = rng.uniform(*s.speed_range)
+        d = np.array([math.cos(self.heading), math.sin(self.heading)])
+        p = self.p + step * d
+        for k in range(2):  # bounce: mirror the position and the heading's component
+            lo, hi = self.low[k], self.high[k]
+            while p[k] < lo or p[k] > hi:
+                p[k] = 2 * lo - p[k] if p[k] < lo else 2 * hi - p[k]
+                d[k] = -d[k]
+        self.heading = math.atan2(d[1], d[0])
+        self.p = p
+        return p[None].copy()
+
+
 def _unit(v: Sequence[float]) -> np.ndarray:
     v = np.asarray(v, dtype=np.float64)
     n = float(np.linalg.norm(v))

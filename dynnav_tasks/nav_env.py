@@ -40,6 +40,7 @@ from mani_skill.utils import sapien_utils
 from mani_skill.utils.structs.types import SceneConfig, SimConfig
 
 from . import rewards as R
+from .camera import FRONT_CAMERA, CameraSpec
 from .errors import check_choice
 from .lasers import LaserRing
 from .motion import wrap_angle
@@ -54,7 +55,7 @@ from .world import (
     World,
 )
 
-OBS_MODES = ("state",)
+OBS_MODES = ("state", "rgb", "rgb+state")
 TARGET_DISC_RADIUS = 0.25
 
 
@@ -94,6 +95,8 @@ class NavEnv(BaseEnv):
         forward_step: float = DriveConfig.forward_step,
         turn_step: float = DriveConfig.turn_step,
         turn_forward_step: float = DriveConfig.turn_forward_step,
+        camera_size: int = CameraSpec.size,
+        camera_render_size: Optional[int] = None,
         num_envs: int = 1,
         sim_backend: str = "physx_cpu",
         render_backend: str = "cpu",
@@ -112,6 +115,7 @@ class NavEnv(BaseEnv):
             forward_step=forward_step, turn_step=turn_step, turn_forward_step=turn_forward_step
         )
         self.drive_config.validate()
+        self.camera_spec = CameraSpec(size=camera_size, render_size=camera_render_size)
         self._episode_index = -1
         super().__init__(
             *args,
@@ -135,7 +139,10 @@ class NavEnv(BaseEnv):
 
     @property
     def _default_sensor_configs(self):
-        return []
+        """The front camera, created only when observations include images."""
+        if "rgb" not in self._obs_mode:
+            return []
+        return [self.camera_spec.config(self.agent.robot.links_map["camera_link"])]
 
     TOP_DOWN_SIZE: ClassVar[int] = 512
     TOP_DOWN_HEIGHT: ClassVar[float] = 12.0
@@ -162,13 +169,16 @@ class NavEnv(BaseEnv):
         return n / 2 + (x - cx) / half * n / 2, n / 2 - (y - cy) / half * n / 2
 
     @cached_property
-    def single_observation_space(self) -> gym.spaces.Box:
-        """Lasers in [0, range]; every position within the arena's walls."""
+    def single_observation_space(self) -> gym.spaces.Space:
+        """state: lasers in [0, range], positions within the walls; rgb: uint8 (H, W, 3)."""
         (x0, x1), (y0, y1) = self.world.arena.x_range, self.world.arena.y_range
-        n_pos = (self.world.moving_obstacle_count + 2)
-        low = np.array([0.0] * len(self._lasers.angles) + [x0, y0] * n_pos, dtype=np.float32)
-        high = np.array([self._lasers.max_range] * len(self._lasers.angles) + [x1, y1] * n_pos, dtype=np.float32)
-        return gym.spaces.Box(low, high, dtype=np.float32)
+        n_lasers, n_pos = len(self._lasers.angles), self.world.moving_obstacle_count + 2
+        low = np.array([0.0] * n_lasers + [x0, y0] * n_pos, dtype=np.float32)
+        high = np.array([self._lasers.max_range] * n_lasers + [x1, y1] * n_pos, dtype=np.float32)
+        state = gym.spaces.Box(low, high, dtype=np.float32)
+        n = self.camera_spec.size
+        rgb = gym.spaces.Box(0, 255, (n, n, 3), dtype=np.uint8)
+        return {"state": state, "rgb": rgb, "rgb+state": gym.spaces.Dict(rgb=rgb, state=state)}[self._obs_mode]
 
     def state_layout(self) -> list[tuple[str, int]]:
         """Names and sizes of the parts of the state vector, in order."""
@@ -400,8 +410,25 @@ class NavEnv(BaseEnv):
         )
 
     def get_obs(self, info: Optional[dict] = None, unflattened: bool = False):
-        state = np.concatenate([self._laser, self._robot_xy, self._target_xy, self._moving_xy.reshape(-1)])
-        return torch.from_numpy(state.astype(np.float32)[None])
+        """Batched torch observation of the current step (see the module docstring)."""
+        if self._obs_mode == "rgb":
+            return torch.from_numpy(self.camera_image()[None])
+        state = torch.from_numpy(self.state_vector()[None])
+        if self._obs_mode == "state":
+            return state
+        return {"rgb": torch.from_numpy(self.camera_image()[None]), "state": state}
+
+    def state_vector(self) -> np.ndarray:
+        """lasers | robot xy | target xy | moving obstacles xy, float32."""
+        return np.concatenate([self._laser, self._robot_xy, self._target_xy, self._moving_xy.reshape(-1)]).astype(np.float32)
+
+    def camera_image(self) -> np.ndarray:
+        """What the front camera sees now: uint8 (size, size, 3)."""
+        self.scene.update_render(update_sensors=True, update_human_render_cameras=False)
+        sensor = self._sensors[FRONT_CAMERA]
+        sensor.capture()
+        rgb = sensor.get_obs(rgb=True, depth=False, position=False, segmentation=False)["rgb"][0].numpy()
+        return self.camera_spec.shrink(rgb)
 
     def get_reward(self, obs, action, info):
         return torch.tensor([self._reward], dtype=torch.float32)
@@ -412,7 +439,7 @@ class NavEnv(BaseEnv):
         self.agent.set_pose2d(x, y, yaw)
         self._robot_xy = None
         self._sense()
-        return self.get_obs()[0].numpy()
+        return self.state_vector()
 
     def render_top_down(self, show_all_targets: bool = False) -> np.ndarray:
         """An RGB picture (H, W, 3) uint8 of the whole arena seen from above.

@@ -14,9 +14,9 @@ from typing import Union
 
 import numpy as np
 
-from .motion import BackAndForth, Route, Static
+from .motion import BackAndForth, RandomInRect, Route, Static
 
-Motion = Union[Static, BackAndForth, Route]
+Motion = Union[Static, BackAndForth, Route, RandomInRect]
 RGBA = tuple[float, float, float, float]
 
 # Walls are coloured by side so a camera can tell directions apart.

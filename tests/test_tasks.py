@@ -6,7 +6,17 @@ from gymnasium.utils.env_checker import check_env
 
 import dynnav_tasks
 
-STATE_SIZES = {"DynNav-MovingTarget-v1": 20, "DynNav-MovingObstacles-v1": 24}
+STATE_SIZES = {
+    "DynNav-OneObstacle-v1": 22,
+    "DynNav-MovingTarget-v1": 20,
+    "DynNav-MovingObstacles-v1": 24,
+    "DynNav-MotionAreas-v1": 24,
+    "DynNav-MotionAreasRoute-v1": 26,
+    "DynNav-OverlappingAreas-v1": 24,
+    "DynNav-VisualStaticTarget-v1": 24,
+    "DynNav-VisualTargets-v1": 26,
+    "DynNav-VisualMovingTargets-v1": 24,
+}
 
 
 def test_every_task_is_listed_with_its_state_size():
@@ -52,8 +62,8 @@ def test_state_vector_layout(make_env, task_id):
     np.testing.assert_array_equal(obs[:16], base._laser)
     np.testing.assert_allclose(obs[16:18], base.agent.pose2d()[:2], rtol=0, atol=1e-6)
     np.testing.assert_allclose(obs[18:20], base._target_xy, rtol=0, atol=1e-6)
-    if task_id == "DynNav-MovingObstacles-v1":
-        np.testing.assert_allclose(obs[20:24], base._moving_xy.reshape(-1), rtol=0, atol=1e-6)
+    np.testing.assert_allclose(obs[20:], base._moving_xy.reshape(-1), rtol=0, atol=1e-6)
+    assert len(obs[20:]) == 2 * base.world.moving_obstacle_count
 
 
 def test_timeout_truncates_after_200_steps(make_env):

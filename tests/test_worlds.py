@@ -5,9 +5,22 @@ import math
 import numpy as np
 import pytest
 
-from dynnav_tasks.motion import BackAndForth, Route, Static
+from mani_skill.utils.registration import REGISTERED_ENVS
+
+import dynnav_tasks
+from dynnav_tasks.motion import BackAndForth, RandomInRect, Route, Static
 from dynnav_tasks.robot import FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH
-from dynnav_tasks.tasks import MovingObstaclesEnv, MovingTargetEnv
+from dynnav_tasks.tasks import (
+    MotionAreasEnv,
+    MotionAreasRouteEnv,
+    MovingObstaclesEnv,
+    MovingTargetEnv,
+    OneObstacleEnv,
+    OverlappingAreasEnv,
+    VisualMovingTargetsEnv,
+    VisualStaticTargetEnv,
+    VisualTargetsEnv,
+)
 
 ROBOT_RADIUS = math.hypot(FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH)
 
@@ -24,7 +37,25 @@ def _rect_gap(lo_a, hi_a, lo_b, hi_b):
     return float(np.hypot(*d))
 
 
-@pytest.mark.parametrize("cls", [MovingTargetEnv, MovingObstaclesEnv])
+ALL_TASKS = [REGISTERED_ENVS[t].cls for t in dynnav_tasks.TASK_IDS]
+
+
+def _area(motion):
+    lo, hi = motion.extent()
+    return np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
+
+
+def _overlap(a, b):
+    """Intersection rectangle of two (lo, hi) rectangles, or None."""
+    lo, hi = np.maximum(a[0], b[0]), np.minimum(a[1], b[1])
+    return (lo, hi) if np.all(lo < hi) else None
+
+
+def _contains(a, b):
+    return bool(np.all(a[0] <= b[0]) and np.all(b[1] <= a[1]))
+
+
+@pytest.mark.parametrize("cls", ALL_TASKS, ids=lambda c: c.__name__)
 def test_start_area_is_clear_and_inside(cls):
     world = cls.world
     s = world.start
@@ -36,16 +67,78 @@ def test_start_area_is_clear_and_inside(cls):
     assert y0 + ROBOT_RADIUS < lo[1] and hi[1] < y1 - ROBOT_RADIUS
 
 
-@pytest.mark.parametrize("cls", [MovingTargetEnv, MovingObstaclesEnv])
+@pytest.mark.parametrize("cls", ALL_TASKS, ids=lambda c: c.__name__)
+def test_everything_moves_inside_the_walls(cls):
+    world = cls.world
+    (x0, x1), (y0, y1) = world.arena.x_range, world.arena.y_range
+    for target in world.targets:
+        lo, hi = _area(target)
+        assert x0 + ROBOT_RADIUS < lo[0] and hi[0] < x1 - ROBOT_RADIUS
+        assert y0 + ROBOT_RADIUS < lo[1] and hi[1] < y1 - ROBOT_RADIUS
+    for o_lo, o_hi in _obstacle_boxes(world):
+        assert x0 < o_lo[0] and o_hi[0] < x1 and y0 < o_lo[1] and o_hi[1] < y1
+
+
+@pytest.mark.parametrize("cls", [MovingTargetEnv, MovingObstaclesEnv, OneObstacleEnv, MotionAreasEnv,
+                                 VisualStaticTargetEnv, VisualTargetsEnv, VisualMovingTargetsEnv],
+                         ids=lambda c: c.__name__)
 def test_targets_are_reachable(cls):
-    """Every point a target can be at leaves room for the robot within the reach radius."""
+    """Wherever a target can be, no obstacle can be within a robot's width of it (all worlds
+    but 5.4b and 5.4c, whose obstacles are meant to reach the targets)."""
     world = cls.world
     for target in world.targets:
-        lo, hi = target.extent()
+        lo, hi = _area(target)
         for o_lo, o_hi in _obstacle_boxes(world):
-            assert _rect_gap(np.asarray(lo), np.asarray(hi), o_lo, o_hi) > ROBOT_RADIUS
-        assert world.arena.x_range[0] + ROBOT_RADIUS < lo[0] and hi[0] < world.arena.x_range[1] - ROBOT_RADIUS
-        assert world.arena.y_range[0] + ROBOT_RADIUS < lo[1] and hi[1] < world.arena.y_range[1] - ROBOT_RADIUS
+            assert _rect_gap(lo, hi, o_lo, o_hi) > ROBOT_RADIUS
+
+
+def test_5_4a_target_and_obstacle_areas_are_disjoint():
+    world = MotionAreasEnv.world
+    assert all(isinstance(t, RandomInRect) for t in world.targets)
+    assert all(isinstance(o.motion, RandomInRect) for o in world.obstacles)
+    for t in world.targets:
+        for o_lo, o_hi in _obstacle_boxes(world):  # the whole area an obstacle's box can cover
+            assert _overlap(_area(t), (o_lo, o_hi)) is None
+
+
+def test_5_4b_regular_route_crosses_one_target_area():
+    world = MotionAreasRouteEnv.world
+    assert world.obstacles[:2] == MotionAreasEnv.world.obstacles and world.targets == MotionAreasEnv.world.targets
+    route = world.obstacles[2].motion
+    assert isinstance(route, Route) and route.signed_area() < 0  # regular, clockwise
+    crossed = []
+    for t in world.targets:
+        lo, hi = _area(t)
+        # sample the route densely: a point strictly inside the target area means crossing
+        pts = np.array([route.position_at(s) for s in np.linspace(0, route.length(), 2001)])
+        crossed.append(bool(np.any(np.all((pts > lo) & (pts < hi), axis=1))))
+    assert crossed.count(True) == 1
+
+
+def test_5_4c_obstacle_areas_partly_overlap_target_areas():
+    world = OverlappingAreasEnv.world
+    assert world.targets == MotionAreasEnv.world.targets
+    for o in world.obstacles:
+        areas = [_area(t) for t in world.targets]
+        overlaps = [_overlap(_area(o.motion), a) for a in areas]
+        hit = [a for a, ov in zip(areas, overlaps) if ov is not None]
+        assert len(hit) == 1  # each obstacle area overlaps one target area...
+        (a,) = hit
+        assert not _contains(a, _area(o.motion)) and not _contains(_area(o.motion), a)  # ...partly
+
+
+def test_random_in_rect_stays_inside_and_varies_speed():
+    spec = RandomInRect(x_range=(0.0, 1.0), y_range=(0.0, 0.5), speed_range=(0.05, 0.5))
+    mover = spec.mover()
+    rng = np.random.default_rng(3)
+    p = mover.reset(rng)
+    steps = []
+    for _ in range(500):
+        q = mover.advance(rng)
+        assert 0.0 <= q[0, 0] <= 1.0 and 0.0 <= q[0, 1] <= 0.5
+        steps.append(np.linalg.norm(q - p))
+        p = q
+    assert max(steps) <= 0.5 + 1e-9 and min(steps) < 0.1 and np.std(steps) > 0.05
 
 
 def test_world_5_2_matches_the_thesis():

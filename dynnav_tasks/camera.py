@@ -1,0 +1,65 @@
+"""The robot's front RGB camera.
+
+Mounted on the robot's ``camera_link`` (0.19 m ahead of the centre, 0.36 m up), looking
+straight ahead and tilted down by ``pitch`` (0.2 rad), with a vertical field of view of
+``fov`` (1.2 rad, about 69 deg). It renders with SAPIEN's minimal shader.
+
+By default it renders directly at the observation size (32x32), which is cheap. The thesis
+rendered 640x640 and shrank the frames to 32x32; ``camera_render_size=640`` does that: the
+frame is rendered at 640x640 and each 20x20 block is averaged into one pixel.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Optional
+
+import numpy as np
+import sapien
+from mani_skill.sensors.camera import CameraConfig
+
+FRONT_CAMERA = "front_camera"
+
+
+@dataclass(frozen=True)
+class CameraSpec:
+    """Size and optics of the front camera."""
+
+    size: int = 32
+    """side of the square image in observations (pixels)"""
+    render_size: Optional[int] = None
+    """side rendered before averaging down to ``size`` (None: render at ``size``)"""
+    fov: float = 1.2
+    """vertical field of view (rad)"""
+    pitch: float = 0.2
+    """downward tilt (rad)"""
+
+    def __post_init__(self):
+        if self.size < 1:
+            raise ValueError(f"camera_size must be >= 1, got {self.size}")
+        if self.render_size is not None and (self.render_size < self.size or self.render_size % self.size):
+            raise ValueError(
+                f"camera_render_size ({self.render_size}) must be a multiple of camera_size ({self.size}), "
+                "e.g. 640 for 32"
+            )
+
+    @property
+    def rendered(self) -> int:
+        return self.render_size or self.size
+
+    def config(self, mount) -> CameraConfig:
+        # rotation about the camera's y (left) axis by +pitch turns its x (forward) axis down
+        half = self.pitch / 2
+        pose = sapien.Pose([0, 0, 0], [math.cos(half), 0, math.sin(half), 0])
+        n = self.rendered
+        return CameraConfig(FRONT_CAMERA, pose=pose, width=n, height=n, fov=self.fov, near=0.01, far=20.0,
+                            mount=mount, shader_pack="minimal")
+
+    def shrink(self, rgb: np.ndarray) -> np.ndarray:
+        """Average ``rendered`` x ``rendered`` down to ``size`` x ``size`` (uint8 in, uint8 out)."""
+        k = self.rendered // self.size
+        if k == 1:
+            return rgb
+        blocks = rgb.reshape(self.size, k, self.size, k, 3).astype(np.float32)
+        return (blocks.mean(axis=(1, 3)) + 0.5).astype(np.uint8)

@@ -1,0 +1,47 @@
+from mani_skill.utils.registration import register_env
+
+from ..motion import RandomInRect
+from ..nav_env import NavEnv
+from ..world import Arena, Obstacles, StartArea, World
+
+
+@register_env("DynNav-VisualMovingTargets-v1", max_episode_steps=NavEnv.max_episode_steps)
+class VisualMovingTargetsEnv(NavEnv):
+    """
+    **Task Description:**
+    Thesis world 5.5c: two targets wander at random in their areas (only the chosen one is
+    visible) and two obstacles wander at random in theirs. Meant for stacked grayscale
+    camera frames (``dynnav_tasks.wrappers.GrayFrameStack``), which show motion.
+
+    * arena: x and y in [-2, 4.5] m, walls 0.5 m high, coloured by side
+    * target areas (one chosen per episode, starting at (3.3, 3.2) or (3.3, -0.6), moving
+      0.05-0.1 m per step): x in [2.8, 3.8] with y in [2.6, 3.8], and with y in [-1.2, 0.0]
+    * obstacle areas (0.5 m boxes, 0.05-0.5 m per step): x in [0.6, 2.0] with y in
+      [1.6, 3.4], and with y in [-1.5, 0.6]
+    * state (24): 16 lasers | robot x, y | target x, y | obstacle 1 x, y | obstacle 2 x, y
+
+    **Randomizations:**
+    - the chosen target; every target and obstacle step's heading change and length; the
+      obstacles' start points (uniform in their areas)
+    - the robot's start: x, y uniform in [-1.25, -0.75] m, heading uniform in [-pi, pi)
+
+    **Success Conditions:**
+    - the robot's centre is within 0.3 m of the chosen target's centre (reward +20)
+
+    **Failure Conditions:**
+    - any contact between the robot and a wall or obstacle (reward -20)
+    - 200 steps without success is a truncation (timeout), not a failure
+    """
+
+    world = World(
+        arena=Arena(x_range=(-2.0, 4.5), y_range=(-2.0, 4.5)),
+        targets=(
+            RandomInRect(x_range=(2.8, 3.8), y_range=(2.6, 3.8), speed_range=(0.05, 0.1), start=(3.3, 3.2)),
+            RandomInRect(x_range=(2.8, 3.8), y_range=(-1.2, 0.0), speed_range=(0.05, 0.1), start=(3.3, -0.6)),
+        ),
+        obstacles=(
+            Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(0.6, 2.0), y_range=(1.6, 3.4))),
+            Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(0.6, 2.0), y_range=(-1.5, 0.6))),
+        ),
+        start=StartArea(x_range=(-1.25, -0.75), y_range=(-1.25, -0.75)),
+    )

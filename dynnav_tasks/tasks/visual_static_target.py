@@ -1,0 +1,42 @@
+from mani_skill.utils.registration import register_env
+
+from ..motion import BackAndForth, Static
+from ..nav_env import NavEnv
+from ..world import Arena, Obstacles, StartArea, World
+
+
+@register_env("DynNav-VisualStaticTarget-v1", max_episode_steps=NavEnv.max_episode_steps)
+class VisualStaticTargetEnv(NavEnv):
+    """
+    **Task Description:**
+    Thesis world 5.5a, the first camera world: one static target and two obstacles moving
+    back and forth on regular paths. Meant for ``obs_mode="rgb"`` (the thesis's camera-only
+    experiment); the state vector is there too.
+
+    * arena: x and y in [-2, 4.5] m, walls 0.5 m high, coloured by side
+    * target: (3, 3), a red disc on the floor
+    * moving obstacles (0.5 m boxes): one along y = 1 between x = -0.5 and 2.5 at 0.1 m per
+      step; one along x = 1.5 between y = 2.3 and 3.9 at 0.08 m per step
+    * state (24): 16 lasers | robot x, y | target x, y | obstacle 1 x, y | obstacle 2 x, y
+
+    **Randomizations:**
+    - each obstacle's start point on its segment (uniform) and direction (either way)
+    - the robot's start: x, y uniform in [-1.25, -0.75] m, heading uniform in [-pi, pi)
+
+    **Success Conditions:**
+    - the robot's centre is within 0.3 m of the target's centre (reward +20)
+
+    **Failure Conditions:**
+    - any contact between the robot and a wall or obstacle (reward -20)
+    - 200 steps without success is a truncation (timeout), not a failure
+    """
+
+    world = World(
+        arena=Arena(x_range=(-2.0, 4.5), y_range=(-2.0, 4.5)),
+        targets=(Static((3.0, 3.0)),),
+        obstacles=(
+            Obstacles(half_size=(0.25, 0.25), motion=BackAndForth(center=(1.0, 1.0), direction=(1, 0), amplitude=1.5, speed=0.1)),
+            Obstacles(half_size=(0.25, 0.25), motion=BackAndForth(center=(1.5, 3.1), direction=(0, 1), amplitude=0.8, speed=0.08)),
+        ),
+        start=StartArea(x_range=(-1.25, -0.75), y_range=(-1.25, -0.75)),
+    )

@@ -1,0 +1,47 @@
+from mani_skill.utils.registration import register_env
+
+from ..motion import BackAndForth, RandomInRect, Static
+from ..nav_env import NavEnv
+from ..world import Arena, Obstacles, StartArea, World
+
+
+@register_env("DynNav-VisualTargets-v1", max_episode_steps=NavEnv.max_episode_steps)
+class VisualTargetsEnv(NavEnv):
+    """
+    **Task Description:**
+    Thesis world 5.5b: three static targets, of which only the episode's chosen one is
+    visible (the others are not rendered), two obstacles wandering at random in their areas
+    and a third moving back and forth on a regular path.
+
+    * arena: x and y in [-2, 4.5] m, walls 0.5 m high, coloured by side
+    * targets (one chosen per episode): (3.4, 3.0), (3.2, -0.5), (-0.5, 3.5)
+    * random obstacles (0.5 m boxes, 0.05-0.5 m per step): x in [0.5, 1.8], y in [1.8, 3.2];
+      and x in [1.2, 2.2], y in [-1.2, 0.4]
+    * regular obstacle: along x = 2.5 between y = 1.0 and 3.4 at 0.1 m per step
+    * state (26): 16 lasers | robot x, y | target x, y | obstacles 1-3 x, y
+      (the thesis's 34 = latent 10 + 24; ours is latent + 26 because the target's position
+      is part of the state)
+
+    **Randomizations:**
+    - the chosen target; the random obstacles' start points, heading changes and step
+      lengths; the regular obstacle's start point and direction
+    - the robot's start: x, y uniform in [-1.25, -0.75] m, heading uniform in [-pi, pi)
+
+    **Success Conditions:**
+    - the robot's centre is within 0.3 m of the chosen target's centre (reward +20)
+
+    **Failure Conditions:**
+    - any contact between the robot and a wall or obstacle (reward -20)
+    - 200 steps without success is a truncation (timeout), not a failure
+    """
+
+    world = World(
+        arena=Arena(x_range=(-2.0, 4.5), y_range=(-2.0, 4.5)),
+        targets=(Static((3.4, 3.0)), Static((3.2, -0.5)), Static((-0.5, 3.5))),
+        obstacles=(
+            Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(0.5, 1.8), y_range=(1.8, 3.2))),
+            Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(1.2, 2.2), y_range=(-1.2, 0.4))),
+            Obstacles(half_size=(0.25, 0.25), motion=BackAndForth(center=(2.5, 2.2), direction=(0, 1), amplitude=1.2, speed=0.1)),
+        ),
+        start=StartArea(x_range=(-1.25, -0.75), y_range=(-1.25, -0.75)),
+    )
