@@ -5,6 +5,9 @@ baselines measured in the same run on the same core:
 * a raw SAPIEN loop: one PhysX step, 16 ray casts and 2 kinematic obstacle pose updates per
   iteration, with no ManiSkill and no gymnasium (the floor under any task's step).
 
+The camera worlds are measured a second time with ``obs_mode="rgb"`` (a 32x32 frame rendered
+every step), and once rendering 640x640 and averaging down to 32x32 as the thesis did.
+
     python benchmarks/env_throughput.py [--steps 5000] [--no-pin]
 
 Every figure is wall-clock steps per second, resets included, through the wrappers a user
@@ -128,6 +131,9 @@ def main() -> None:
     rows.append(("ManiSkill PushCube-v1 (state, CPU)", gym_steps_per_second("PushCube-v1", args.steps, obs_mode="state", render_backend="cpu")))
     for task_id in dynnav_tasks.TASK_IDS:
         rows.append((f"{task_id} (state)", gym_steps_per_second(task_id, args.steps)))
+    for task_id in dynnav_tasks.VISUAL_TASK_IDS:
+        rows.append((f"{task_id} (rgb 32x32)", gym_steps_per_second(task_id, args.steps, obs_mode="rgb")))
+    rows.append((f"{dynnav_tasks.VISUAL_TASK_IDS[-1]} (rgb 640->32)", gym_steps_per_second(dynnav_tasks.VISUAL_TASK_IDS[-1], max(args.steps // 20, 100), obs_mode="rgb", camera_render_size=640)))
 
     push = rows[1][1]
     width = max(len(name) for name, _ in rows)

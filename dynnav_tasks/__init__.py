@@ -12,21 +12,19 @@ Importing the package registers every task with ManiSkill and gymnasium::
 
 from __future__ import annotations
 
+from mani_skill.utils.registration import REGISTERED_ENVS
+
 from . import robot  # noqa: F401  (registers the agent)
 from . import tasks  # noqa: F401  (registers the tasks)
 from .errors import check_choice
 from .nav_env import NavEnv
 
-def _registered_tasks() -> tuple[str, ...]:
-    from mani_skill.utils.registration import REGISTERED_ENVS
-
-    return tuple(uid for uid, spec in REGISTERED_ENVS.items() if issubclass(spec.cls, NavEnv))
-
-
-TASK_IDS = _registered_tasks()
+TASK_IDS = tuple(uid for uid, spec in REGISTERED_ENVS.items() if issubclass(spec.cls, NavEnv))
 """Every dynnav task id, in the thesis's order of worlds (5.1, 5.2, 5.3, 5.4a-c, 5.5a-c)."""
+VISUAL_TASK_IDS = tuple(uid for uid in TASK_IDS if REGISTERED_ENVS[uid].cls.camera_world)
+"""The camera worlds of the thesis (5.5a-c)."""
 
-__all__ = ["NavEnv", "TASK_IDS", "make"]
+__all__ = ["NavEnv", "TASK_IDS", "VISUAL_TASK_IDS", "make"]
 
 
 def make(task_id: str, **kwargs):

@@ -82,6 +82,8 @@ class NavEnv(BaseEnv):
     max_episode_steps: ClassVar[int] = 200
     reach_radius: ClassVar[float] = 0.3
     collision_margin: ClassVar[float] = 0.005
+    camera_world: ClassVar[bool] = False
+    """a world of the thesis's camera experiments (5.5a-c); any task can use the camera"""
     default_reward_params: ClassVar[dict] = {}
     """per-task overrides of ``RewardParams`` defaults"""
 

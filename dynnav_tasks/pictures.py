@@ -1,10 +1,13 @@
-"""Top-down pictures of every task, rendered by the task itself, for the README.
+"""Pictures of every task, rendered by the task itself, for the README.
 
     python -m dynnav_tasks.pictures --out docs/images
 
-Each picture is the task's top-down camera (all candidate targets shown as red discs) with
-the motion of targets (dark red) and obstacles (orange) drawn over it, and the start area
-(white rectangle).
+``<task>.png``: the task's top-down camera (all candidate targets shown as red discs) with
+the targets' motion (dark red: segments, or the areas they wander in), the obstacles' motion
+(orange: routes with arrows, or the areas their boxes can cover) and the start area (white).
+
+``<task>-camera.png`` (camera worlds): what the robot's front camera sees (32x32, shown
+enlarged) every 4 steps while it turns towards the target and drives at it.
 """
 
 from __future__ import annotations
@@ -16,7 +19,7 @@ import numpy as np
 import tyro
 from PIL import Image, ImageDraw
 
-from .motion import BackAndForth, Route
+from .motion import BackAndForth, RandomInRect, Route
 
 TARGET_PATH = (120, 0, 0)
 OBSTACLE_PATH = (255, 140, 0)
@@ -43,6 +46,13 @@ def _motion_lines(motion) -> list[np.ndarray]:
     return []
 
 
+def _area_corners(motion, margin=(0.0, 0.0)):
+    """Top-left and bottom-right floor corners of a RandomInRect's area grown by ``margin``."""
+    lo, hi = motion.extent()
+    lo, hi = np.asarray(lo) - margin, np.asarray(hi) + margin
+    return (lo[0], hi[1]), (hi[0], lo[1])
+
+
 def _arrow(draw, a, b, color, width):
     draw.line([tuple(a), tuple(b)], fill=color, width=width)
     d = np.asarray(b, float) - np.asarray(a, float)
@@ -63,10 +73,16 @@ def annotated_top_down(env) -> Image.Image:
     draw = ImageDraw.Draw(img)
     px = base.top_down_pixel
     for target in base.world.targets:
+        if isinstance(target, RandomInRect):
+            a, b = _area_corners(target)
+            draw.rectangle([px(*a), px(*b)], outline=TARGET_PATH, width=3)
         for line in _motion_lines(target):
             pts = [px(*p) for p in line]
             draw.line(pts, fill=TARGET_PATH, width=3)
     for group in base.world.obstacles:
+        if isinstance(group.motion, RandomInRect):
+            a, b = _area_corners(group.motion, np.asarray(group.half_size))
+            draw.rectangle([px(*a), px(*b)], outline=OBSTACLE_PATH, width=3)
         for line in _motion_lines(group.motion):
             pts = [px(*p) for p in line]
             for a, b in zip(pts[:-1], pts[1:]):
@@ -75,6 +91,36 @@ def annotated_top_down(env) -> Image.Image:
     (c0, r0), (c1, r1) = px(s.x_range[0], s.y_range[1]), px(s.x_range[1], s.y_range[0])
     draw.rectangle([c0, r0, c1, r1], outline=START_AREA, width=2)
     return img
+
+
+def camera_strip(task_id: str, seed: int, frames: int = 6, every: int = 4, scale: int = 4) -> Image.Image:
+    """Front-camera frames of one episode driven straight at the target, side by side."""
+    import math
+
+    from mani_skill.utils.wrappers.gymnasium import CPUGymWrapper
+
+    import dynnav_tasks
+
+    env = CPUGymWrapper(dynnav_tasks.make(task_id, obs_mode="rgb"))
+    obs, _ = env.reset(seed=seed)
+    base, shots, step = env.unwrapped, [obs], 0
+    while len(shots) < frames:
+        x, y, yaw = base.agent.pose2d()
+        tx, ty = base._target_xy
+        bearing = (math.atan2(ty - y, tx - x) - yaw + math.pi) % (2 * math.pi) - math.pi
+        action = 0 if abs(bearing) < math.pi / 16 else (1 if bearing > 0 else 2)
+        obs, _, terminated, truncated, _ = env.step(action)
+        step += 1
+        if step % every == 0 or terminated or truncated:
+            shots.append(obs)
+        if terminated or truncated:
+            break
+    env.close()
+    size, gap = base.camera_spec.size * scale, 4
+    strip = Image.new("RGB", (len(shots) * (size + gap) - gap, size), (255, 255, 255))
+    for i, shot in enumerate(shots):
+        strip.paste(Image.fromarray(shot).resize((size, size), Image.NEAREST), (i * (size + gap), 0))
+    return strip
 
 
 def main(args: Args) -> None:
@@ -90,6 +136,10 @@ def main(args: Args) -> None:
         annotated_top_down(env).save(path)
         print(f"wrote {path}")
         env.close()
+    for task_id in dynnav_tasks.VISUAL_TASK_IDS:
+        path = args.out / f"{task_id}-camera.png"
+        camera_strip(task_id, args.seed).save(path)
+        print(f"wrote {path}")
 
 
 if __name__ == "__main__":

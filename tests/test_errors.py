@@ -35,7 +35,7 @@ def test_unknown_reward_mode():
 
 
 def test_unknown_obs_mode():
-    with pytest.raises(ValueError, match=r"Unknown obs_mode 'stat'\. Valid obs_modes: state\. Did you mean 'state'"):
+    with pytest.raises(ValueError, match=r"Unknown obs_mode 'stat'\. Valid obs_modes: state, rgb, rgb\+state\. Did you mean 'state'"):
         gym.make("DynNav-MovingTarget-v1", obs_mode="stat")
 
 

@@ -33,6 +33,7 @@ class VisualMovingTargetsEnv(NavEnv):
     - 200 steps without success is a truncation (timeout), not a failure
     """
 
+    camera_world = True
     world = World(
         arena=Arena(x_range=(-2.0, 4.5), y_range=(-2.0, 4.5)),
         targets=(

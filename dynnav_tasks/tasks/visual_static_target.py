@@ -31,6 +31,7 @@ class VisualStaticTargetEnv(NavEnv):
     - 200 steps without success is a truncation (timeout), not a failure
     """
 
+    camera_world = True
     world = World(
         arena=Arena(x_range=(-2.0, 4.5), y_range=(-2.0, 4.5)),
         targets=(Static((3.0, 3.0)),),

@@ -35,6 +35,7 @@ class VisualTargetsEnv(NavEnv):
     - 200 steps without success is a truncation (timeout), not a failure
     """
 
+    camera_world = True
     world = World(
         arena=Arena(x_range=(-2.0, 4.5), y_range=(-2.0, 4.5)),
         targets=(Static((3.4, 3.0)), Static((3.2, -0.5)), Static((-0.5, 3.5))),
