@@ -46,21 +46,10 @@ from .lasers import LaserRing
 from .motion import wrap_angle
 from .vulkan import explain, is_vulkan_error
 from .robot import FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH, LASER_HEIGHT, DiffBot, DriveConfig
-from .world import (
-    FLOOR_COLOR,
-    MOVING_OBSTACLE_COLOR,
-    STATIC_OBSTACLE_COLOR,
-    TARGET_COLOR,
-    WALL_COLORS,
-    World,
-)
+from .scene import HIDDEN_Z, build_world
+from .world import World
 
 OBS_MODES = ("state", "rgb", "rgb+state")
-TARGET_DISC_RADIUS = 0.25
-
-
-def _material(rgba) -> sapien.render.RenderMaterial:
-    return sapien.render.RenderMaterial(base_color=list(rgba))
 
 
 def box_distance(point: np.ndarray, centers: np.ndarray, half_sizes: np.ndarray) -> np.ndarray:
@@ -118,7 +107,6 @@ class NavEnv(BaseEnv):
         )
         self.drive_config.validate()
         self.camera_spec = CameraSpec(size=camera_size, render_size=camera_render_size)
-        self._episode_index = -1
         super().__init__(
             *args,
             obs_mode=obs_mode,
@@ -202,73 +190,20 @@ class NavEnv(BaseEnv):
         self.agent.controller.configure(self.drive_config)
 
     def _load_scene(self, options: dict):
-        world = self.world
-        arena = world.arena
-        # floor: visual only (nothing rests on it, so it needs no collision shape)
-        b = self.scene.create_actor_builder()
-        b.initial_pose = sapien.Pose()
-        b.add_box_visual(
-            sapien.Pose([*arena.center, -0.01]),
-            half_size=[*(arena.size / 2 + arena.wall_thickness), 0.01],
-            material=_material(FLOOR_COLOR),
-        )
-        self._floor = b.build_static("floor")
-        for side, (center, half) in arena.walls().items():
-            self._box_actor(f"wall_{side}", center, half, arena.wall_height, WALL_COLORS[side], moving=False)
-
-        # obstacles: static boxes, or kinematic boxes moved by their motion's mover
-        self._movers, self._moving_bodies, self._moving_z, halves = [], [], [], []
-        self._static_obstacle_xy = []
-        for g, group in enumerate(world.obstacles):
-            mover = group.motion.mover()
-            color = MOVING_OBSTACLE_COLOR if group.moving else STATIC_OBSTACLE_COLOR
-            start = mover.reset(np.random.default_rng(0))
-            bodies = []
-            for i in range(group.count):
-                actor = self._box_actor(f"obstacle{g}_{i}", start[i], group.half_size, group.height, color, group.moving)
-                if group.moving:
-                    bodies.append(actor._bodies[0])
-                    self._moving_z.append(group.height / 2)
-                halves.append(group.half_size)
-            if group.moving:
-                self._movers.append((mover, bodies))
-                self._moving_bodies.extend(bodies)
-            else:
-                self._static_obstacle_xy.extend(start)
-        self._obstacle_half = np.array(halves, dtype=np.float64).reshape(-1, 2)
-        self._static_obstacle_xy = np.array(self._static_obstacle_xy, dtype=np.float64).reshape(-1, 2)
-
-        # targets: red discs with no collision shape; only the chosen one is shown
-        self._targets = []
-        for t, spec in enumerate(world.targets):
-            b = self.scene.create_actor_builder()
-            b.add_cylinder_visual(
-                sapien.Pose([0, 0, 0.002], [0.7071068, 0, 0.7071068, 0]),
-                radius=TARGET_DISC_RADIUS,
-                half_length=0.002,
-                material=_material(TARGET_COLOR),
-            )
-            b.initial_pose = sapien.Pose([*spec.extent()[0], -1.0])
-            self._targets.append((spec.mover(), b.build_kinematic(f"target{t}")._objs[0]))
-
+        built = build_world(self.scene, self.world)
+        self._movers = built.movers
+        self._moving_bodies, self._moving_z = built.moving_bodies, built.moving_z
+        self._static_obstacle_xy, self._obstacle_half = built.static_obstacle_xy, built.obstacle_half
+        self._targets = built.targets
         self._px = self.scene.px
         self._lasers = LaserRing(self._px, FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH, LASER_HEIGHT)
         self._robot_bodies = {
             link._objs[0] for link in self.agent.robot.links if link._objs[0].collision_shapes
         }
 
-    def _box_actor(self, name, center, half_size, height, color, moving):
-        b = self.scene.create_actor_builder()
-        half = [float(half_size[0]), float(half_size[1]), height / 2]
-        b.add_box_collision(half_size=half)
-        b.add_box_visual(half_size=half, material=_material(color))
-        b.initial_pose = sapien.Pose([float(center[0]), float(center[1]), height / 2])
-        return b.build_kinematic(name) if moving else b.build_static(name)
-
     # ------------------------------------------------------------------ episodes
     def _initialize_episode(self, env_idx: torch.Tensor, options: dict):
         rng = self.np_random
-        self._episode_index += 1
         world = self.world
         self._target_index = int(rng.integers(len(world.targets)))
         self._target_xy = None
@@ -278,7 +213,7 @@ class NavEnv(BaseEnv):
                 self._target_xy = xy
                 entity.set_pose(sapien.Pose([xy[0], xy[1], 0.0]))
             else:
-                entity.set_pose(sapien.Pose([xy[0], xy[1], -1.0]))  # hidden under the floor
+                entity.set_pose(sapien.Pose([xy[0], xy[1], HIDDEN_Z]))  # out of sight under the floor
         moving = []
         for mover, bodies in self._movers:
             xy = mover.reset(rng)

@@ -1,0 +1,104 @@
+"""Turn a ``World`` into SAPIEN actors: floor, coloured walls, obstacles and target discs."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import sapien
+
+from .motion import Mover
+from .world import FLOOR_COLOR, MOVING_OBSTACLE_COLOR, STATIC_OBSTACLE_COLOR, TARGET_COLOR, WALL_COLORS, World
+
+TARGET_DISC_RADIUS = 0.25
+HIDDEN_Z = -1.0
+"""height at which a target disc is out of sight, under the floor"""
+
+
+@dataclass
+class BuiltWorld:
+    """Handles to what ``build_world`` created, for the environment to move and query."""
+
+    movers: list[tuple[Mover, list]]
+    """(mover, kinematic bodies it moves) per moving obstacle group"""
+    moving_bodies: list
+    """every moving obstacle's PhysxRigidDynamicComponent, in state-vector order"""
+    moving_z: list[float]
+    """centre height of each moving obstacle"""
+    static_obstacle_xy: np.ndarray
+    """(n, 2) centres of the static obstacles"""
+    obstacle_half: np.ndarray
+    """(m, 2) half sizes of all obstacles: static ones first, then moving ones"""
+    targets: list[tuple[Mover, sapien.Entity]]
+    """(mover, disc entity) per candidate target"""
+
+
+def _material(rgba) -> sapien.render.RenderMaterial:
+    return sapien.render.RenderMaterial(base_color=list(rgba))
+
+
+def _box(scene, name, center, half_size, height, color, moving):
+    b = scene.create_actor_builder()
+    half = [float(half_size[0]), float(half_size[1]), height / 2]
+    b.add_box_collision(half_size=half)
+    b.add_box_visual(half_size=half, material=_material(color))
+    b.initial_pose = sapien.Pose([float(center[0]), float(center[1]), height / 2])
+    return b.build_kinematic(name) if moving else b.build_static(name)
+
+
+def build_world(scene, world: World) -> BuiltWorld:
+    """Add ``world``'s actors to a ManiSkill scene."""
+    arena = world.arena
+    # floor: visual only (nothing rests on it, so it needs no collision shape)
+    b = scene.create_actor_builder()
+    b.initial_pose = sapien.Pose()
+    b.add_box_visual(
+        sapien.Pose([*arena.center, -0.01]),
+        half_size=[*(arena.size / 2 + arena.wall_thickness), 0.01],
+        material=_material(FLOOR_COLOR),
+    )
+    b.build_static("floor")
+    for side, (center, half) in arena.walls().items():
+        _box(scene, f"wall_{side}", center, half, arena.wall_height, WALL_COLORS[side], moving=False)
+
+    # obstacles: static boxes, or kinematic boxes moved by their motion's mover
+    movers, moving_bodies, moving_z, static_xy, static_half, moving_half = [], [], [], [], [], []
+    for g, group in enumerate(world.obstacles):
+        mover = group.motion.mover()
+        color = MOVING_OBSTACLE_COLOR if group.moving else STATIC_OBSTACLE_COLOR
+        start = mover.reset(np.random.default_rng(0))
+        bodies = []
+        for i in range(group.count):
+            actor = _box(scene, f"obstacle{g}_{i}", start[i], group.half_size, group.height, color, group.moving)
+            if group.moving:
+                bodies.append(actor._bodies[0])
+                moving_z.append(group.height / 2)
+                moving_half.append(group.half_size)
+            else:
+                static_xy.append(start[i])
+                static_half.append(group.half_size)
+        if group.moving:
+            movers.append((mover, bodies))
+            moving_bodies.extend(bodies)
+
+    # targets: red discs with no collision shape
+    targets = []
+    for t, spec in enumerate(world.targets):
+        b = scene.create_actor_builder()
+        b.add_cylinder_visual(
+            sapien.Pose([0, 0, 0.002], [0.7071068, 0, 0.7071068, 0]),  # cylinder axis x -> z
+            radius=TARGET_DISC_RADIUS,
+            half_length=0.002,
+            material=_material(TARGET_COLOR),
+        )
+        b.initial_pose = sapien.Pose([*spec.extent()[0], HIDDEN_Z])
+        targets.append((spec.mover(), b.build_kinematic(f"target{t}")._objs[0]))
+
+    return BuiltWorld(
+        movers=movers,
+        moving_bodies=moving_bodies,
+        moving_z=moving_z,
+        static_obstacle_xy=np.array(static_xy, dtype=np.float64).reshape(-1, 2),
+        obstacle_half=np.array(static_half + moving_half, dtype=np.float64).reshape(-1, 2),
+        targets=targets,
+    )
