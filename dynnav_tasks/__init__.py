@@ -24,7 +24,7 @@ TASK_IDS = tuple(uid for uid, spec in REGISTERED_ENVS.items() if issubclass(spec
 VISUAL_TASK_IDS = tuple(uid for uid in TASK_IDS if REGISTERED_ENVS[uid].cls.camera_world)
 """The camera worlds of the thesis (5.5a-c)."""
 
-__all__ = ["NavEnv", "TASK_IDS", "VISUAL_TASK_IDS", "make"]
+__all__ = ["NavEnv", "TASK_IDS", "VISUAL_TASK_IDS", "check_choice", "make"]
 
 
 def make(task_id: str, **kwargs):

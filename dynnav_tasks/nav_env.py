@@ -365,7 +365,13 @@ class NavEnv(BaseEnv):
         sensor = self._sensors[FRONT_CAMERA]
         sensor.capture()
         rgb = sensor.get_obs(rgb=True, depth=False, position=False, segmentation=False)["rgb"][0].numpy()
-        return self.camera_spec.shrink(rgb)
+        self._camera_frame = self.camera_spec.shrink(rgb)
+        return self._camera_frame
+
+    @property
+    def last_camera_frame(self) -> Optional[np.ndarray]:
+        """The frame of the latest observation (None when the task renders no images)."""
+        return getattr(self, "_camera_frame", None)
 
     def get_reward(self, obs, action, info):
         return torch.tensor([self._reward], dtype=torch.float32)

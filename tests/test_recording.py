@@ -1,0 +1,103 @@
+"""Rerun recordings: read the file back and check what a viewer would show."""
+
+import numpy as np
+import pytest
+import rerun.chunk as rc
+
+from dynnav_tasks.record import Args, main, record_random
+from dynnav_tasks.recording import Recorder
+
+
+def read_back(path):
+    """entity path -> list of record batches, and the row count per entity on 'step'."""
+    store = rc.RrdReader(str(path)).store()
+    batches = {}
+    for chunk in store.stream().to_chunks():
+        batches.setdefault(chunk.entity_path, []).append(chunk.to_record_batch())
+    return batches
+
+
+def column(batches, name):
+    values = []
+    for rb in batches:
+        if name in rb.schema.names:
+            values.extend(rb.column(rb.schema.names.index(name)).to_pylist())
+    return values
+
+
+def record(make_env, tmp_path, task, obs_mode, episodes=2):
+    env = make_env(task, obs_mode=obs_mode)
+    path = tmp_path / "run.rrd"
+    with Recorder(path) as recorder:
+        results = record_random(env, recorder, episodes=episodes, seed=3)
+    return path, results
+
+
+def test_state_task_recording(make_env, tmp_path):
+    path, results = record(make_env, tmp_path, "DynNav-MovingObstacles-v1", "state")
+    lengths = [n for _, n in results]
+    data = read_back(path)
+    for entity in ("/world", "/world/walls", "/world/robot", "/world/robot/body", "/world/robot/lasers",
+                   "/world/obstacles", "/world/target", "/world/robot/camera", "/agent/action",
+                   "/agent/reward", "/episode/outcome"):
+        assert entity in data, entity
+    # one robot pose per reset and per step, on the step timeline
+    steps = column(data["/world/robot"], "step")
+    assert len(steps) == sum(n + 1 for n in lengths)
+    assert steps == sorted(steps) and len(set(steps)) == len(steps)
+    assert len(column(data["/agent/reward"], "step")) == sum(lengths)
+    # 16 laser segments per logged step, each a 2-point strip from the laser ring
+    strips = column(data["/world/robot/lasers"], "LineStrips3D:strips")
+    assert len(strips) == sum(n + 1 for n in lengths)
+    assert all(len(s) == 16 and all(len(seg) == 2 for seg in s) for s in strips)
+    # two moving obstacles (5.3) in every obstacle frame
+    assert all(len(c) == 2 for c in column(data["/world/obstacles"], "Boxes3D:centers"))
+    outcomes = [row[0] for row in column(data["/episode/outcome"], "TextLog:text")]
+    assert outcomes == [f"episode {i}: {o}" for i, (o, _) in enumerate(results)]
+    assert "/world/robot/camera/image" not in data  # a state task renders no frames
+
+
+def test_camera_world_recording(make_env, tmp_path):
+    path, results = record(make_env, tmp_path, "DynNav-VisualStaticTarget-v1", "rgb+state", episodes=2)
+    data = read_back(path)
+    formats = [row[0] for row in column(data["/world/robot/camera/image"], "Image:format")]
+    assert len(formats) == sum(n + 1 for _, n in results)
+    assert all(f["width"] == 32 and f["height"] == 32 for f in formats)
+    buffers = [row[0] for row in column(data["/world/robot/camera/image"], "Image:buffer")]
+    assert all(len(b) == 32 * 32 * 3 for b in buffers)
+    assert len({bytes(b) for b in buffers}) > 1  # the frames change
+
+
+def test_agent_outputs_are_recorded(make_env, tmp_path):
+    env = make_env("DynNav-MovingTarget-v1")
+    path = tmp_path / "agent.rrd"
+    with Recorder(path) as recorder:
+        env.reset(seed=0)
+        recorder.start_episode(env)
+        _, reward, *_ = env.step(0)
+        recorder.log_step(env, action=0, reward=reward, q_values=[1.0, 2.0, 3.0], latent=np.arange(10),
+                          reconstruction=np.zeros((32, 32, 3), np.uint8))
+        recorder.log_training(0, ret=-3.5, loss=0.25, epsilon=0.8, success_rate=float("nan"))
+    data = read_back(path)
+    for entity in ("/agent/q_values", "/agent/latent", "/agent/reconstruction", "/training/ret",
+                   "/training/loss", "/training/epsilon"):
+        assert entity in data, entity
+    assert "/training/success_rate" not in data  # not-a-number values are skipped
+
+
+def test_missing_folder_is_a_clear_error_before_any_work(tmp_path, capsys):
+    with pytest.raises(ValueError, match="does not exist"):
+        Recorder(tmp_path / "missing" / "run.rrd")
+    with pytest.raises(SystemExit, match="folder .* does not exist"):
+        main(Args(task="DynNav-MovingTarget-v1", out=tmp_path / "missing" / "run.rrd"))
+
+
+def test_unwritable_folder_is_a_clear_error():
+    # /proc takes no new files, even for root (a chmod'ed folder would not stop root)
+    with pytest.raises(ValueError, match="not writable"):
+        Recorder("/proc/run.rrd")
+
+
+def test_folder_instead_of_file(tmp_path):
+    with pytest.raises(ValueError, match="is a folder"):
+        Recorder(tmp_path)
