@@ -1,0 +1,139 @@
+"""The convolutional auto-encoder that compresses camera frames for the Q-network
+(thesis Sec. 4.3, Figs. 4.3-4.4).
+
+Encoder: two 3x3 convolutions with stride 2 (32 -> 16 -> 8 pixels), a dense layer and the
+latent layer; the decoder mirrors it with transposed convolutions. ReLU everywhere but the
+latent (linear) and the output (sigmoid, pixels in [0, 1]).
+
+=====================  ===============  =======================  ======
+input                  channels         dense                    latent
+=====================  ===============  =======================  ======
+one RGB frame          32x32x3          conv 32, conv 64, 64     10
+4 stacked gray frames  32x32x4          conv 64, conv 128, 64    15
+=====================  ===============  =======================  ======
+
+The thesis's figures give the layer widths but not the strides (its stated shapes, 3x3x32
+after a stride-1 convolution of a 32x32 image, cannot be right); stride 2 keeps the dense
+layer small (8x8x64 = 4096 inputs). Frames are uint8 (H, W, C) as the tasks return them;
+``encode`` and ``reconstruct`` take such frames (or batches of them) directly.
+
+Reconstruction loss (Eq. 4.10): the squared error summed over an image's pixels and
+channels, averaged over the N images of the batch, pixels scaled to [0, 1].
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import torch
+from torch import nn
+
+
+@dataclass(frozen=True)
+class AutoEncoderSpec:
+    """Layer sizes of the auto-encoder."""
+
+    image_size: int = 32
+    """side of the square input frames"""
+    in_channels: int = 3
+    """3 for an RGB frame, N for N stacked gray frames"""
+    conv_channels: tuple[int, int] = (32, 64)
+    """filters of the two convolutions (the stacked-frame thesis model uses 64, 128)"""
+    dense: int = 64
+    """width of the dense layer before the latent"""
+    latent: int = 10
+    """latent size (the thesis: 10 for one frame, 15 for stacked frames)"""
+
+    def __post_init__(self):
+        if self.image_size % 4:
+            raise ValueError(f"image_size must be a multiple of 4 (two stride-2 convolutions), got {self.image_size}")
+        if min(self.in_channels, self.dense, self.latent, *self.conv_channels) < 1:
+            raise ValueError(f"every auto-encoder size must be >= 1, got {self}")
+
+
+SINGLE_RGB = AutoEncoderSpec()
+STACKED_GRAY = AutoEncoderSpec(in_channels=4, conv_channels=(64, 128), latent=15)
+
+
+class ConvAutoEncoder(nn.Module):
+    def __init__(self, spec: AutoEncoderSpec = SINGLE_RGB):
+        super().__init__()
+        self.spec = spec
+        c1, c2 = spec.conv_channels
+        side = spec.image_size // 4
+        flat = c2 * side * side
+        self.encoder = nn.Sequential(
+            nn.Conv2d(spec.in_channels, c1, 3, stride=2, padding=1), nn.ReLU(),
+            nn.Conv2d(c1, c2, 3, stride=2, padding=1), nn.ReLU(),
+            nn.Flatten(),
+            nn.Linear(flat, spec.dense), nn.ReLU(),
+            nn.Linear(spec.dense, spec.latent),
+        )
+        self.decoder = nn.Sequential(
+            nn.Linear(spec.latent, spec.dense), nn.ReLU(),
+            nn.Linear(spec.dense, flat), nn.ReLU(),
+            nn.Unflatten(1, (c2, side, side)),
+            nn.ConvTranspose2d(c2, c1, 4, stride=2, padding=1), nn.ReLU(),
+            nn.ConvTranspose2d(c1, spec.in_channels, 4, stride=2, padding=1), nn.Sigmoid(),
+        )
+
+    # ------------------------------------------------------------------ tensors
+    def to_input(self, frames: np.ndarray) -> torch.Tensor:
+        """uint8 (B, H, W, C) or (H, W, C) frames -> float (B, C, H, W) in [0, 1]."""
+        x = np.asarray(frames)
+        if x.ndim == 3:
+            x = x[None]
+        s = self.spec
+        if x.shape[1:] != (s.image_size, s.image_size, s.in_channels):
+            raise ValueError(f"expected frames of shape (H, W, C) = {(s.image_size, s.image_size, s.in_channels)}, got {x.shape[1:]}")
+        return torch.from_numpy(np.ascontiguousarray(x)).permute(0, 3, 1, 2).float().div_(255.0)
+
+    def forward(self, x: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+        z = self.encoder(x)
+        return z, self.decoder(z)
+
+    # ------------------------------------------------------------------ numpy helpers
+    @torch.inference_mode()
+    def encode(self, frames: np.ndarray) -> np.ndarray:
+        """Latent vectors (B, latent), or (latent,) for one frame, as float32 numpy."""
+        z = self.encoder(self.to_input(frames)).numpy()
+        return z[0] if np.asarray(frames).ndim == 3 else z
+
+    @torch.inference_mode()
+    def reconstruct(self, frames: np.ndarray) -> np.ndarray:
+        """Reconstructed frames as uint8, shaped like the input."""
+        _, y = self(self.to_input(frames))
+        out = (y.permute(0, 2, 3, 1).numpy() * 255.0 + 0.5).astype(np.uint8)
+        return out[0] if np.asarray(frames).ndim == 3 else out
+
+
+def reconstruction_loss(reconstruction: torch.Tensor, target: torch.Tensor) -> torch.Tensor:
+    """Eq. 4.10: per-image sum of squared errors, averaged over the batch."""
+    return (reconstruction - target).pow(2).flatten(1).sum(dim=1).mean()
+
+
+class AutoEncoderTrainer:
+    """Adam on the reconstruction loss, over batches of uint8 frames."""
+
+    def __init__(self, model: ConvAutoEncoder, lr: float = 1e-3):
+        self.model = model
+        self.optimizer = torch.optim.Adam(model.parameters(), lr=lr)
+
+    def train_batch(self, frames: np.ndarray) -> float:
+        self.model.train()
+        x = self.model.to_input(frames)
+        _, y = self.model(x)
+        loss = reconstruction_loss(y, x)
+        self.optimizer.zero_grad(set_to_none=True)
+        loss.backward()
+        self.optimizer.step()
+        self.model.eval()
+        return float(loss)
+
+    def state_dict(self) -> dict:
+        return {"model": self.model.state_dict(), "optimizer": self.optimizer.state_dict()}
+
+    def load_state_dict(self, state: dict) -> None:
+        self.model.load_state_dict(state["model"])
+        self.optimizer.load_state_dict(state["optimizer"])
