@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from env_throughput import cpu_name, pin_one_core
+from machine import cpu_name, pin_one_core
 
 
 def steps_per_second(task_id: str, steps: int, obs_mode: str, record_to: Path | None) -> tuple[float, float]:
