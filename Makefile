@@ -10,7 +10,7 @@ setup:
 	@bash scripts/setup.sh
 
 demo: setup
-	$(PY) -m dynnav_tasks.demo --task $(TASK)
+	$(PY) -m agents.dqn --config configs/demo_5_2.yaml --task $(TASK)
 
 test: setup
 	$(PY) -m pytest -q tests

@@ -1,0 +1,203 @@
+"""DQN (thesis Alg. 1) and Double DQN (Appendix A) for dynnav tasks and any gymnasium env
+with discrete actions and a state vector.
+
+    python -m agents.dqn --config configs/moving_target_5_2.yaml        # train, then test
+    python -m agents.dqn --task CartPole-v1 --episodes 300              # any gymnasium env
+    python -m agents.dqn --resume runs/<run>                            # continue a stopped run
+    python -m agents.dqn --eval --checkpoint runs/<run>/checkpoint.pkl  # test phase only
+
+A run directory ``runs/<task>__<name>__<seed>__<time>/`` receives the resolved config
+(config.yaml), one metrics row per episode (metrics.csv), the checkpoint (checkpoint.pkl,
+rewritten atomically every ``checkpoint_every`` episodes), the learning curves (reward.png,
+loss.png) and the test results (eval.json, eval.md, trajectories.png).
+
+The loop, per environment step: epsilon-greedy action; store (s, a, r, s', terminated);
+once ``learning_starts`` steps are stored, every ``train_frequency`` steps one gradient step on
+a minibatch; hard target copy every ``target_update_interval`` steps (or a soft update after
+every gradient step). A timeout (truncation) still bootstraps from Q(s'); a success or a
+collision (termination) does not. Epsilon and the learning rate change once per episode.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import sys
+import time
+from collections import deque
+from pathlib import Path
+
+import numpy as np
+
+from . import checkpoint as ckpt
+from .config import Config, parse_args, save_yaml
+from .envs import ObsScaler, make_env
+from .qnetwork import QLearner
+from .replay import ReplayMemory
+from .schedules import epsilon_at, learning_rate_at
+from .threads import limit_threads
+
+METRICS = ["episode", "global_step", "return", "length", "success", "collision", "timeout", "loss",
+           "epsilon", "learning_rate", "steps_per_s", "wall_time_s"]
+
+
+def episode_seed(seed: int, episode: int) -> int:
+    """The reset seed of training episode ``episode`` (a hash of both: distinct from test seeds)."""
+    return int(np.random.SeedSequence([seed, episode]).generate_state(1)[0])
+
+
+def new_run_dir(config: Config) -> Path:
+    stamp = time.strftime("%Y%m%d-%H%M%S")
+    base = Path(config.runs_dir) / f"{config.task.replace('/', '-')}__{config.name}__{config.seed}__{stamp}"
+    run_dir, k = base, 1
+    while run_dir.exists():
+        run_dir, k = Path(f"{base}-{k}"), k + 1
+    run_dir.mkdir(parents=True)
+    return run_dir
+
+
+def keep_metric_rows(path: Path, episodes: int) -> None:
+    """Drop the rows of episodes after the checkpoint a resumed run continues from."""
+    if not path.exists():
+        return
+    with open(path, newline="") as f:
+        rows = [r for r in csv.DictReader(f) if r.get("episode", "").isdigit() and int(r["episode"]) < episodes]
+    out = io.StringIO()
+    writer = csv.DictWriter(out, fieldnames=METRICS, lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(rows)
+    ckpt.atomic_write_bytes(path, out.getvalue().encode())
+
+
+def train(config: Config) -> Path:
+    """Train as ``config`` says (or continue ``config.resume``); return the run directory."""
+    limit_threads(1)
+    # --- run directory, environment, agent
+    resumed = ckpt.load(config.resume) if config.resume else None
+    env = make_env(config.task, config.reward_mode, config.reward_params, config.task_kwargs)
+    run_dir = Path(config.resume) if config.resume else new_run_dir(config)
+    save_yaml(config, run_dir / "config.yaml")  # a resumed run may have changed e.g. the episode count
+    obs_dim, n_actions = env.observation_space.shape[0], int(env.action_space.n)
+    scale = ObsScaler(env.observation_space, config.normalize_obs)
+    rng = np.random.default_rng(config.seed)
+    learner = QLearner(obs_dim, n_actions, config.hidden_sizes, config.batch_size, config.gamma,
+                       double=config.algorithm == "ddqn", loss=config.loss, max_grad_norm=config.max_grad_norm,
+                       learning_rate=config.learning_rate, rng=rng)
+    memory = ReplayMemory(config.buffer_size, obs_dim)
+    start_episode, global_step, wall_time = 0, 0, 0.0
+    if resumed:
+        learner.load_state_dict(resumed["learner"])
+        memory.load_state_dict(resumed["memory"])
+        rng.bit_generator.state = resumed["rng"]
+        start_episode, global_step, wall_time = resumed["episode"], resumed["global_step"], resumed["wall_time_s"]
+        keep_metric_rows(run_dir / "metrics.csv", start_episode)
+        print(f"resuming {run_dir} at episode {start_episode} (step {global_step})")
+
+    metrics_path = run_dir / "metrics.csv"
+    new_file = not metrics_path.exists()
+    metrics_file = open(metrics_path, "a", newline="")
+    writer = csv.DictWriter(metrics_file, fieldnames=METRICS, lineterminator="\n")
+    if new_file:
+        writer.writeheader()
+
+    def save_checkpoint(episodes_done: int) -> None:
+        metrics_file.flush()
+        ckpt.save(run_dir / ckpt.FILENAME, dict(
+            config=config.to_yaml_dict(), episode=episodes_done, global_step=global_step,
+            wall_time_s=wall_time, learner=learner.state_dict(), memory=memory.state_dict(),
+            rng=rng.bit_generator.state, obs_dim=obs_dim, n_actions=n_actions,
+        ))
+        from .plots import plot_learning_curves
+
+        plot_learning_curves(metrics_path, run_dir, title=config.task)
+
+    # --- training loop
+    recent_success, recent_return = deque(maxlen=100), deque(maxlen=100)
+    bar = None
+    if config.progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=config.episodes, initial=start_episode, desc=config.task, unit="ep", dynamic_ncols=True,
+                   mininterval=0.5)
+    for episode in range(start_episode, config.episodes):
+        epsilon = epsilon_at(config, episode)
+        learner.learning_rate = learning_rate_at(config, episode)
+        obs, _ = env.reset(seed=episode_seed(config.seed, episode))
+        obs = scale(obs)
+        episode_return, length, losses = 0.0, 0, []
+        t0 = time.perf_counter()
+        while True:
+            if rng.random() < epsilon:
+                action = int(rng.integers(n_actions))
+            else:
+                action = learner.act(obs)
+            next_obs, reward, terminated, truncated, info = env.step(action)
+            next_obs = scale(next_obs)
+            memory.add(obs, action, float(reward), next_obs, bool(terminated))
+            global_step += 1
+            episode_return += float(reward)
+            length += 1
+
+            if global_step > config.learning_starts and global_step % config.train_frequency == 0 \
+                    and len(memory) >= config.batch_size:
+                memory.sample_into(learner.batch, rng)
+                losses.append(learner.update())
+                if config.target_update == "soft":
+                    learner.update_target(config.tau)
+            if config.target_update == "hard" and global_step % config.target_update_interval == 0:
+                learner.update_target()
+
+            obs = next_obs
+            if terminated or truncated:
+                break
+        elapsed = time.perf_counter() - t0
+        wall_time += elapsed
+        success = bool(info.get("success", False))
+        writer.writerow(dict(
+            episode=episode, global_step=global_step, **{"return": round(episode_return, 4)}, length=length,
+            success=int(success), collision=int(bool(info.get("collision", False))),
+            timeout=int(bool(info.get("timeout", truncated and not terminated))),
+            loss=f"{np.mean(losses):.6g}" if losses else "", epsilon=round(epsilon, 5),
+            learning_rate=f"{learner.learning_rate:.6g}", steps_per_s=round(length / elapsed, 1),
+            wall_time_s=round(wall_time, 2),
+        ))
+        recent_success.append(success)
+        recent_return.append(episode_return)
+        if bar is not None:
+            bar.update(1)
+            bar.set_postfix(success=f"{np.mean(recent_success):.0%}", ret=f"{np.mean(recent_return):.1f}",
+                            eps=f"{epsilon:.2f}", sps=f"{length / elapsed:.0f}", refresh=False)
+        if (episode + 1) % config.checkpoint_every == 0 or episode + 1 == config.episodes:
+            save_checkpoint(episode + 1)
+    if bar is not None:
+        bar.close()
+    metrics_file.close()
+    env.close()
+    return run_dir
+
+
+def main(argv: list[str] | None = None) -> None:
+    try:
+        config = parse_args(argv)
+    except ValueError as err:
+        raise SystemExit(f"error: {err}")
+    from .evaluate import evaluate
+
+    try:
+        if config.eval:
+            evaluate(config.checkpoint, episodes=config.eval_episodes, seed=config.eval_seed,
+                     picture=config.eval_picture)
+            return
+        run_dir = train(config)
+        if config.eval_after_training:
+            evaluate(run_dir / ckpt.FILENAME, episodes=config.eval_episodes, seed=config.eval_seed,
+                     picture=config.eval_picture, verbose=True)
+        print(f"\nrun directory: {run_dir}")
+        pictures = [p.name for p in sorted(run_dir.glob("*.png"))]
+        print(f"  config.yaml, metrics.csv, checkpoint.pkl; pictures: {', '.join(pictures)}")
+    except ValueError as err:  # config, task or checkpoint errors
+        raise SystemExit(f"error: {err}")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])

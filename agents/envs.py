@@ -1,0 +1,86 @@
+"""Make a training or test environment from a task id.
+
+dynnav tasks are ManiSkill tasks: they are wrapped in ManiSkill's ``CPUGymWrapper`` (numpy,
+unbatched) and take the reward options. Any other gymnasium id is made as it is and must have
+a ``Discrete`` action space and a one-dimensional ``Box`` observation space.
+"""
+
+from __future__ import annotations
+
+import difflib
+import os
+
+import gymnasium as gym
+
+os.environ.setdefault("MS_RENDERER_LOG_LEVEL", "error")
+
+
+def dynnav_ids() -> tuple[str, ...]:
+    import dynnav_tasks
+
+    return tuple(dynnav_tasks.TASK_IDS)
+
+
+def is_dynnav(task: str) -> bool:
+    return task in dynnav_ids()
+
+
+def check_task(task: str) -> None:
+    """Raise ValueError for a task id gymnasium does not know, listing the close matches."""
+    known = list(gym.registry.keys())
+    if task in known or is_dynnav(task):
+        return
+    candidates = list(dict.fromkeys(list(dynnav_ids()) + known))
+    close = difflib.get_close_matches(task, candidates, n=3, cutoff=0.6)
+    hint = f" Did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
+    raise ValueError(f"Unknown task id {task!r}.{hint} dynnav tasks: {', '.join(dynnav_ids())}.")
+
+
+def make_env(task: str, reward_mode: str | None = None, reward_params: dict | None = None,
+             task_kwargs: dict | None = None) -> gym.Env:
+    """The environment for ``task`` with the plain gymnasium API (numpy in, numpy out)."""
+    check_task(task)
+    if is_dynnav(task):
+        import dynnav_tasks
+        from mani_skill.utils.wrappers.gymnasium import CPUGymWrapper
+
+        kwargs = {"reward_params": dict(reward_params or {}), **dict(task_kwargs or {})}
+        if reward_mode is not None:
+            kwargs["reward_mode"] = reward_mode
+        try:
+            env = CPUGymWrapper(dynnav_tasks.make(task, **kwargs))
+        except TypeError as err:  # an unknown keyword argument
+            raise ValueError(f"{task}: {err}") from err
+    else:
+        if reward_mode is not None or reward_params or task_kwargs:
+            raise ValueError(f"reward_mode, reward_params and task_kwargs apply to dynnav tasks only, not {task!r}")
+        env = gym.make(task)
+    if not isinstance(env.action_space, gym.spaces.Discrete):
+        env.close()
+        raise ValueError(f"{task!r} has a {type(env.action_space).__name__} action space; DQN needs Discrete")
+    space = env.observation_space
+    if not isinstance(space, gym.spaces.Box) or len(space.shape) != 1:
+        env.close()
+        raise ValueError(f"{task!r} observations are {space}; this agent needs a one-dimensional Box")
+    return env
+
+
+class ObsScaler:
+    """Maps each bounded state component from [low, high] to [-1, 1]; unbounded ones pass unchanged.
+
+    dynnav states mix laser ranges (0-5 m) and coordinates (about -2 to 4.5 m); the bounds
+    come from the task's observation space, so the same task always scales the same way.
+    """
+
+    def __init__(self, space: gym.spaces.Box, enabled: bool = True):
+        import numpy as np
+
+        low, high = space.low.astype(np.float64), space.high.astype(np.float64)
+        bounded = np.isfinite(low) & np.isfinite(high) & (high > low) & enabled
+        low, high = np.where(bounded, low, -1.0), np.where(bounded, high, 1.0)
+        mid, half = (low + high) / 2, (high - low) / 2
+        self.offset = mid.astype(np.float32)
+        self.scale = (1.0 / half).astype(np.float32)
+
+    def __call__(self, obs):
+        return (obs - self.offset) * self.scale

@@ -1,0 +1,208 @@
+"""The test phase: a trained Q-network drives greedily (epsilon 0) through a fixed set of
+episodes; success, collision and timeout rates, steps and SPL are reported.
+
+    python -m agents.dqn --eval --checkpoint runs/<run>/checkpoint.pkl [--eval-episodes 100]
+
+Test episode i is reset with seed ``eval_seed + i`` (default 1_000_000 + i), so every
+checkpoint is tested on the same episodes, none of which it was trained on (training episodes
+use hashed seeds). Results go next to the checkpoint: eval.json (summary and every episode),
+eval.md (the table printed here) and, for dynnav tasks, trajectories.png (every test path
+drawn on the task's top-down render, as in the thesis's Fig. 6.2).
+
+* success rate: with a 95% Wilson score interval (sound for rates near 0 or 1, unlike the
+  normal approximation).
+* SPL (success weighted by path length, Anderson et al. 2018): mean over episodes of
+  S_i * l_i / max(p_i, l_i), S_i = 1 on success, p_i the path the robot drove
+  (``info["path_length"]``) and l_i the shortest path, taken as the straight-line distance from
+  the robot's start to the target's position at the start minus the reach radius (0.3 m): the
+  robot succeeds as soon as its centre is within that radius. Obstacles and the target's motion
+  are ignored, so l_i is a lower bound and SPL of 1 is out of reach in worlds where the straight
+  line is blocked.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from . import checkpoint as ckpt
+from .config import config_from_dict
+from .envs import ObsScaler, is_dynnav, make_env
+from .qnetwork import MLP
+from .threads import limit_threads
+
+OUTCOME_COLORS = {"success": (30, 90, 255), "collision": (230, 30, 30), "timeout": (255, 170, 0)}
+
+
+def wilson_interval(successes: int, n: int, z: float = 1.96) -> tuple[float, float]:
+    """The Wilson score interval of a binomial proportion (95% for z = 1.96)."""
+    if n <= 0:
+        return (math.nan, math.nan)
+    p = successes / n
+    denom = 1 + z * z / n
+    center = (p + z * z / (2 * n)) / denom
+    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / denom
+    return (max(0.0, center - half), min(1.0, center + half))
+
+
+def outcome_of(info: dict, terminated: bool) -> str:
+    """success / collision (dynnav), timeout (truncated), or terminated (other envs' endings)."""
+    if info.get("success", False):
+        return "success"
+    if info.get("collision", False):
+        return "collision"
+    return "terminated" if terminated else "timeout"
+
+
+def _slices(env) -> dict[str, slice]:
+    """Where robot_xy and target_xy sit in a dynnav state vector."""
+    out, offset = {}, 0
+    for name, size in env.unwrapped.state_layout():
+        out[name] = slice(offset, offset + size)
+        offset += size
+    return out
+
+
+def run_episodes(net: MLP, env, episodes: int, seed: int, dynnav: bool, scale=None) -> list[dict]:
+    """Greedy rollouts of ``net`` on seeds seed, seed + 1, ...; one record per episode.
+
+    ``scale`` maps the env's state to the network's input (the ObsScaler used in training).
+    """
+    scale = scale or (lambda obs: obs)
+    parts = _slices(env) if dynnav else {}
+    reach = float(getattr(env.unwrapped, "reach_radius", 0.0))
+    records = []
+    for i in range(episodes):
+        obs, _ = env.reset(seed=seed + i)
+        path, ret, steps = [], 0.0, 0
+        if dynnav:
+            start, target = obs[parts["robot_xy"]].copy(), obs[parts["target_xy"]].copy()
+            path.append(start.tolist())
+        while True:
+            obs, reward, terminated, truncated, info = env.step(int(np.argmax(net(scale(obs)))))
+            ret += float(reward)
+            steps += 1
+            if dynnav:
+                path.append(obs[parts["robot_xy"]].tolist())
+            if terminated or truncated:
+                break
+        record = dict(seed=seed + i, outcome=outcome_of(info, bool(terminated)), steps=steps, ret=round(ret, 4))
+        if dynnav:
+            shortest = max(float(np.linalg.norm(target - start)) - reach, 0.0)
+            driven = float(info["path_length"])
+            success = record["outcome"] == "success"
+            record.update(
+                path_length=round(driven, 4), shortest_path=round(shortest, 4),
+                spl=round(shortest / max(driven, shortest, 1e-9), 4) if success else 0.0,
+                target_start=target.tolist(), trajectory=path,
+            )
+        records.append(record)
+    return records
+
+
+def summarize(records: list[dict]) -> dict:
+    n = len(records)
+    count = {k: sum(r["outcome"] == k for r in records) for k in ("success", "collision", "timeout", "terminated")}
+    lo, hi = wilson_interval(count["success"], n)
+    steps = [r["steps"] for r in records if r["outcome"] == "success"]
+    summary = dict(
+        episodes=n,
+        success_rate=count["success"] / n,
+        success_ci95=[round(lo, 4), round(hi, 4)],
+        collision_rate=count["collision"] / n,
+        timeout_rate=count["timeout"] / n,
+        terminated_rate=count["terminated"] / n,
+        avg_steps_success=round(float(np.mean(steps)), 2) if steps else None,
+        avg_return=round(float(np.mean([r["ret"] for r in records])), 4),
+    )
+    if records and "spl" in records[0]:
+        summary["spl"] = round(float(np.mean([r["spl"] for r in records])), 4)
+    return summary
+
+
+def markdown_table(task: str, summary: dict) -> str:
+    lo, hi = summary["success_ci95"]
+    avg = summary["avg_steps_success"]
+    rows = [
+        ("task", task),
+        ("test episodes (epsilon 0)", summary["episodes"]),
+        ("success rate", f"{summary['success_rate']:.0%} (95% CI {lo:.0%}-{hi:.0%})"),
+        ("collision rate", f"{summary['collision_rate']:.0%}"),
+        ("timeout rate", f"{summary['timeout_rate']:.0%}"),
+        ("ended otherwise (terminated)", f"{summary['terminated_rate']:.0%}"),
+        ("average steps (successful episodes)", "-" if avg is None else f"{avg:.1f}"),
+        ("average return", f"{summary['avg_return']:.2f}"),
+    ]
+    if not summary["terminated_rate"]:
+        rows = [r for r in rows if not r[0].startswith("ended otherwise")]
+    if "spl" in summary:
+        rows.append(("SPL", f"{summary['spl']:.3f}"))
+    width = max(len(r[0]) for r in rows)
+    lines = [f"| {'metric':<{width}} | value |", f"|{'-' * (width + 2)}|-------|"]
+    lines += [f"| {name:<{width}} | {value} |" for name, value in rows]
+    return "\n".join(lines) + "\n"
+
+
+def draw_trajectories(env, records: list[dict], path: Path) -> None:
+    """Every test trajectory on the task's top-down render, coloured by outcome."""
+    from PIL import ImageDraw
+
+    from dynnav_tasks.pictures import annotated_top_down
+
+    env.reset(seed=records[0]["seed"])
+    img = annotated_top_down(env)
+    draw = ImageDraw.Draw(img)
+    px = env.unwrapped.top_down_pixel
+    for r in records:
+        pts = [px(x, y) for x, y in r["trajectory"]]
+        color = OUTCOME_COLORS.get(r["outcome"], (128, 128, 128))
+        if len(pts) > 1:
+            draw.line(pts, fill=color, width=2)
+        (c, w), (tc, tw) = pts[0], px(*r["target_start"])
+        draw.ellipse([c - 3, w - 3, c + 3, w + 3], fill=(255, 255, 255))
+        draw.ellipse([tc - 3, tw - 3, tc + 3, tw + 3], outline=(120, 0, 0))
+    y = 6
+    for name, color in OUTCOME_COLORS.items():
+        n = sum(r["outcome"] == name for r in records)
+        draw.rectangle([6, y + 2, 16, y + 10], fill=color)
+        draw.text((22, y), f"{name} ({n})", fill=(255, 255, 255))
+        y += 14
+    tmp = path.with_name(f".{path.name}.tmp.png")
+    img.save(tmp)
+    tmp.replace(path)
+
+
+def evaluate(checkpoint_path, episodes: int = 100, seed: int = 1_000_000, picture: bool = True,
+             out_dir: str | Path | None = None, verbose: bool = True) -> dict:
+    """Test the checkpoint's Q-network; write eval.json / eval.md (/ trajectories.png); return the summary."""
+    limit_threads(1)
+    path = ckpt.resolve(checkpoint_path)
+    state = ckpt.load(path)
+    config = config_from_dict(state["config"], source=f"config in {path}")
+    out_dir = Path(out_dir) if out_dir is not None else path.parent
+    env = make_env(config.task, config.reward_mode, config.reward_params, config.task_kwargs)
+    net = MLP(state["learner"]["sizes"])
+    net.flat[:] = state["learner"]["q"]
+    dynnav = is_dynnav(config.task)
+    records = run_episodes(net, env, episodes, seed, dynnav, ObsScaler(env.observation_space, config.normalize_obs))
+    summary = summarize(records)
+    result = dict(task=config.task, checkpoint=str(path), trained_episodes=state["episode"], eval_seed=seed,
+                  summary=summary, episodes=records)
+    table = markdown_table(config.task, summary)
+    ckpt.atomic_write_bytes(out_dir / "eval.json", json.dumps(result, indent=1).encode())
+    ckpt.atomic_write_bytes(out_dir / "eval.md", (f"Test of {path} after {state['episode']} training episodes\n\n"
+                                                   + table).encode())
+    if verbose:
+        print(f"\ntest phase: {path} ({state['episode']} training episodes)\n")
+        print(table)
+    if picture and dynnav:
+        draw_trajectories(env, records, out_dir / "trajectories.png")
+        if verbose:
+            print(f"trajectories: {out_dir / 'trajectories.png'}")
+    if verbose:
+        print(f"results: {out_dir / 'eval.json'}, {out_dir / 'eval.md'}")
+    env.close()
+    return summary
