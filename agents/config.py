@@ -118,10 +118,17 @@ class Config:
     eval_picture: bool = True
     """draw the test trajectories on the task's top-down picture (dynnav tasks)"""
 
+    # --- Rerun recordings (dynnav tasks)
+    rerun: Optional[str] = None
+    """write a Rerun recording (.rrd) here: every rerun_every-th training episode step by step with
+    its Q-values, the training curves, and (with --eval) every test episode"""
+    rerun_every: int = 100
+    """record every this many training episodes (the first included)"""
+
     def validate(self) -> "Config":
         """Raise ValueError naming the first field with an impossible value."""
         positive = ["episodes", "checkpoint_every", "batch_size", "buffer_size", "train_frequency",
-                    "target_update_interval", "eval_episodes", "lr_decay_episodes"]
+                    "target_update_interval", "eval_episodes", "lr_decay_episodes", "rerun_every"]
         for name in positive:
             if getattr(self, name) < 1:
                 raise ValueError(f"{name} must be at least 1, got {getattr(self, name)}")
@@ -147,7 +154,7 @@ class Config:
 
     def to_yaml_dict(self) -> dict:
         """Field values to write as the run's resolved config (the mode flags left out)."""
-        skip = {"config", "eval", "checkpoint", "resume"}
+        skip = {"config", "eval", "checkpoint", "resume", "rerun"}
         out = {}
         for f in dataclasses.fields(self):
             if f.name not in skip:

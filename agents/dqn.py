@@ -5,6 +5,7 @@ with discrete actions and a state vector.
     python -m agents.dqn --task CartPole-v1 --episodes 300              # any gymnasium env
     python -m agents.dqn --resume runs/<run>                            # continue a stopped run
     python -m agents.dqn --eval --checkpoint runs/<run>/checkpoint.pkl  # test phase only
+    python -m agents.dqn --config ... --rerun runs/train.rrd            # also record (Rerun)
 
 A run directory ``runs/<task>__<name>__<seed>__<time>/`` receives the resolved config
 (config.yaml), one metrics row per episode (metrics.csv), the checkpoint (checkpoint.pkl,
@@ -31,7 +32,7 @@ import numpy as np
 
 from . import checkpoint as ckpt
 from .config import Config, parse_args, save_yaml
-from .envs import ObsScaler, make_env
+from .envs import ObsScaler, is_dynnav, make_env
 from .qnetwork import QLearner
 from .replay import ReplayMemory
 from .schedules import epsilon_at, learning_rate_at
@@ -72,6 +73,7 @@ def keep_metric_rows(path: Path, episodes: int) -> None:
 def train(config: Config) -> Path:
     """Train as ``config`` says (or continue ``config.resume``); return the run directory."""
     limit_threads(1)
+    recorder = open_recorder(config.rerun, config.task)  # checks the recording path before any work
     # --- run directory, environment, agent
     resumed = ckpt.load(config.resume) if config.resume else None
     env = make_env(config.task, config.reward_mode, config.reward_params, config.task_kwargs)
@@ -125,13 +127,19 @@ def train(config: Config) -> Path:
         obs, _ = env.reset(seed=episode_seed(config.seed, episode))
         obs = scale(obs)
         episode_return, length, losses = 0.0, 0, []
+        recording = recorder is not None and episode % config.rerun_every == 0
+        if recording:
+            recorder.start_episode(env, episode)
         t0 = time.perf_counter()
         while True:
+            q_values = learner.q(obs) if recording else None
             if rng.random() < epsilon:
                 action = int(rng.integers(n_actions))
             else:
-                action = learner.act(obs)
+                action = int(np.argmax(q_values)) if recording else learner.act(obs)
             next_obs, reward, terminated, truncated, info = env.step(action)
+            if recording:
+                recorder.log_step(env, action=action, reward=float(reward), q_values=q_values)
             next_obs = scale(next_obs)
             memory.add(obs, action, float(reward), next_obs, bool(terminated))
             global_step += 1
@@ -163,6 +171,11 @@ def train(config: Config) -> Path:
         ))
         recent_success.append(success)
         recent_return.append(episode_return)
+        if recorder is not None:
+            if recording:
+                recorder.end_episode(info)
+            recorder.log_training(episode, episode_return=episode_return, loss=np.mean(losses) if losses else None,
+                                  epsilon=epsilon, success_rate=float(np.mean(recent_success)))
         if bar is not None:
             bar.update(1)
             bar.set_postfix(success=f"{np.mean(recent_success):.0%}", ret=f"{np.mean(recent_return):.1f}",
@@ -171,9 +184,22 @@ def train(config: Config) -> Path:
             save_checkpoint(episode + 1)
     if bar is not None:
         bar.close()
+    if recorder is not None:
+        recorder.close()
     metrics_file.close()
     env.close()
     return run_dir
+
+
+def open_recorder(path, task: str):
+    """A Rerun recorder writing to ``path`` (None: no recording); dynnav tasks only."""
+    if path is None:
+        return None
+    if not is_dynnav(task):
+        raise ValueError(f"--rerun records dynnav tasks (their world, lasers and camera), not {task!r}")
+    from dynnav_tasks.recording import Recorder
+
+    return Recorder(path)
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -186,7 +212,7 @@ def main(argv: list[str] | None = None) -> None:
     try:
         if config.eval:
             evaluate(config.checkpoint, episodes=config.eval_episodes, seed=config.eval_seed,
-                     picture=config.eval_picture)
+                     picture=config.eval_picture, rerun=config.rerun)
             return
         run_dir = train(config)
         if config.eval_after_training:

@@ -66,10 +66,11 @@ def _slices(env) -> dict[str, slice]:
     return out
 
 
-def run_episodes(net: MLP, env, episodes: int, seed: int, dynnav: bool, scale=None) -> list[dict]:
+def run_episodes(net: MLP, env, episodes: int, seed: int, dynnav: bool, scale=None, recorder=None) -> list[dict]:
     """Greedy rollouts of ``net`` on seeds seed, seed + 1, ...; one record per episode.
 
-    ``scale`` maps the env's state to the network's input (the ObsScaler used in training).
+    ``scale`` maps the env's state to the network's input (the ObsScaler used in training);
+    ``recorder`` (a dynnav_tasks.recording.Recorder) logs every step with its Q-values.
     """
     scale = scale or (lambda obs: obs)
     parts = _slices(env) if dynnav else {}
@@ -81,8 +82,14 @@ def run_episodes(net: MLP, env, episodes: int, seed: int, dynnav: bool, scale=No
         if dynnav:
             start, target = obs[parts["robot_xy"]].copy(), obs[parts["target_xy"]].copy()
             path.append(start.tolist())
+        if recorder is not None:
+            recorder.start_episode(env, i)
         while True:
-            obs, reward, terminated, truncated, info = env.step(int(np.argmax(net(scale(obs)))))
+            q_values = net(scale(obs))
+            action = int(np.argmax(q_values))
+            obs, reward, terminated, truncated, info = env.step(action)
+            if recorder is not None:
+                recorder.log_step(env, action=action, reward=float(reward), q_values=q_values)
             ret += float(reward)
             steps += 1
             if dynnav:
@@ -90,6 +97,8 @@ def run_episodes(net: MLP, env, episodes: int, seed: int, dynnav: bool, scale=No
             if terminated or truncated:
                 break
         record = dict(seed=seed + i, outcome=outcome_of(info, bool(terminated)), steps=steps, ret=round(ret, 4))
+        if recorder is not None:
+            recorder.end_episode(info)
         if dynnav:
             shortest = max(float(np.linalg.norm(target - start)) - reach, 0.0)
             driven = float(info["path_length"])
@@ -175,19 +184,42 @@ def draw_trajectories(env, records: list[dict], path: Path) -> None:
     tmp.replace(path)
 
 
-def evaluate(checkpoint_path, episodes: int = 100, seed: int = 1_000_000, picture: bool = True,
-             out_dir: str | Path | None = None, verbose: bool = True) -> dict:
-    """Test the checkpoint's Q-network; write eval.json / eval.md (/ trajectories.png); return the summary."""
-    limit_threads(1)
+def load_policy(checkpoint_path, **task_kwargs):
+    """(config, env, Q-network, state scaler, checkpoint path, checkpoint state) of a trained agent.
+
+    ``task_kwargs`` are added to the task's own (e.g. obs_mode for recordings)."""
     path = ckpt.resolve(checkpoint_path)
     state = ckpt.load(path)
     config = config_from_dict(state["config"], source=f"config in {path}")
-    out_dir = Path(out_dir) if out_dir is not None else path.parent
-    env = make_env(config.task, config.reward_mode, config.reward_params, config.task_kwargs)
+    return (config, *policy_from_state(config, state, **task_kwargs), path, state)
+
+
+def policy_from_state(config, state: dict, **task_kwargs):
+    """(env, Q-network, state scaler) for a loaded checkpoint ``state``."""
+    env = make_env(config.task, config.reward_mode, config.reward_params, {**config.task_kwargs, **task_kwargs})
     net = MLP(state["learner"]["sizes"])
     net.flat[:] = state["learner"]["q"]
+    return env, net, ObsScaler(env.observation_space, config.normalize_obs)
+
+
+def evaluate(checkpoint_path, episodes: int = 100, seed: int = 1_000_000, picture: bool = True,
+             out_dir: str | Path | None = None, verbose: bool = True, rerun: str | Path | None = None) -> dict:
+    """Test the checkpoint's Q-network; write eval.json / eval.md (/ trajectories.png); return the summary.
+
+    ``rerun``: also write every test episode to this Rerun recording (dynnav tasks)."""
+    limit_threads(1)
+    from .dqn import open_recorder
+
+    path = ckpt.resolve(checkpoint_path)
+    state = ckpt.load(path)
+    config = config_from_dict(state["config"], source=f"config in {path}")
+    recorder = open_recorder(rerun, config.task)  # checks the recording path before any work
+    env, net, scale = policy_from_state(config, state)
+    out_dir = Path(out_dir) if out_dir is not None else path.parent
     dynnav = is_dynnav(config.task)
-    records = run_episodes(net, env, episodes, seed, dynnav, ObsScaler(env.observation_space, config.normalize_obs))
+    records = run_episodes(net, env, episodes, seed, dynnav, scale, recorder)
+    if recorder is not None:
+        recorder.close()
     summary = summarize(records)
     result = dict(task=config.task, checkpoint=str(path), trained_episodes=state["episode"], eval_seed=seed,
                   summary=summary, episodes=records)

@@ -95,6 +95,13 @@ class StartArea:
         )
 
 
+STANDARD_ARENA = Arena(x_range=(-2.0, 4.5), y_range=(-2.0, 4.5))
+"""6.5 m x 6.5 m: the thesis's target coordinates with room around them."""
+STANDARD_START = StartArea(x_range=(-0.9, -0.4), y_range=(-0.9, -0.4), yaw_range=(-math.pi / 4, 3 * math.pi / 4))
+"""South-west, 1.1 m or more from the walls, heading into the arena (+-90 deg of north-east):
+a robot never starts facing a wall it cannot turn away from in time."""
+
+
 @dataclass(frozen=True)
 class World:
     """Everything a navigation task places in its scene.
@@ -104,10 +111,10 @@ class World:
     state vector in the order listed.
     """
 
-    arena: Arena
     targets: tuple[Motion, ...]
     obstacles: tuple[Obstacles, ...] = field(default_factory=tuple)
-    start: StartArea = StartArea((-0.25, 0.25), (-0.25, 0.25))
+    arena: Arena = STANDARD_ARENA
+    start: StartArea = STANDARD_START
 
     def __post_init__(self):
         if not self.targets:

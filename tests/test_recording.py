@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 import rerun.chunk as rc
 
-from dynnav_tasks.record import Args, main, record_random
+from dynnav_tasks.record import Args, main, record_episodes
 from dynnav_tasks.recording import Recorder
 
 
@@ -29,7 +29,7 @@ def record(make_env, tmp_path, task, obs_mode, episodes=2):
     env = make_env(task, obs_mode=obs_mode)
     path = tmp_path / "run.rrd"
     with Recorder(path) as recorder:
-        results = record_random(env, recorder, episodes=episodes, seed=3)
+        results = record_episodes(env, recorder, episodes=episodes, seed=3)
     return path, results
 
 

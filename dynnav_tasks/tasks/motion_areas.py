@@ -2,7 +2,7 @@ from mani_skill.utils.registration import register_env
 
 from ..motion import RandomInRect
 from ..nav_env import NavEnv
-from ..world import Arena, Obstacles, StartArea, World
+from ..world import Obstacles, World
 
 # Shared by the three worlds of thesis Fig. 5.4: where the targets wander (red areas).
 TARGET_SPEED = (0.02, 0.08)
@@ -11,8 +11,6 @@ TARGET_AREAS = (
     RandomInRect(x_range=(2.5, 3.5), y_range=(-1.0, 0.0), speed_range=TARGET_SPEED, start=(3.0, -0.5)),
 )
 OBSTACLE_SPEED = (0.05, 0.5)
-ARENA = Arena(x_range=(-2.0, 4.5), y_range=(-2.0, 4.5))
-START = StartArea(x_range=(-1.25, -0.75), y_range=(-1.25, -0.75))
 
 
 @register_env("DynNav-MotionAreas-v1", max_episode_steps=NavEnv.max_episode_steps)
@@ -33,7 +31,7 @@ class MotionAreasEnv(NavEnv):
     **Randomizations:**
     - the chosen target; every target and obstacle step's heading change (up to +-45 deg)
       and length; the obstacles' start points (uniform in their areas)
-    - the robot's start: x, y uniform in [-1.25, -0.75] m, heading uniform in [-pi, pi)
+    - the robot's start: x, y uniform in [-0.9, -0.4] m, heading uniform in [-45, 135] deg
 
     **Success Conditions:**
     - the robot's centre is within 0.3 m of the chosen target's centre (reward +20)
@@ -44,11 +42,9 @@ class MotionAreasEnv(NavEnv):
     """
 
     world = World(
-        arena=ARENA,
         targets=TARGET_AREAS,
         obstacles=(
             Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(0.5, 1.5), y_range=(1.5, 3.0), speed_range=OBSTACLE_SPEED)),
             Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(0.5, 1.8), y_range=(-1.5, 0.5), speed_range=OBSTACLE_SPEED)),
         ),
-        start=START,
     )

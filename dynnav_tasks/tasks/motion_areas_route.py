@@ -30,7 +30,6 @@ class MotionAreasRouteEnv(NavEnv):
     """
 
     world = World(
-        arena=MotionAreasEnv.world.arena,
         targets=MotionAreasEnv.world.targets,
         obstacles=MotionAreasEnv.world.obstacles + (
             Obstacles(
@@ -38,5 +37,4 @@ class MotionAreasRouteEnv(NavEnv):
                 motion=Route(waypoints=((2.0, 3.0), (4.0, 3.0), (4.0, 2.0), (2.0, 2.0)), speed_range=(0.05, 0.3)),
             ),
         ),
-        start=MotionAreasEnv.world.start,
     )

@@ -2,7 +2,7 @@ from mani_skill.utils.registration import register_env
 
 from ..motion import Route, Static
 from ..nav_env import NavEnv
-from ..world import Arena, Obstacles, StartArea, World
+from ..world import Obstacles, World
 
 
 @register_env("DynNav-MovingObstacles-v1", max_episode_steps=NavEnv.max_episode_steps)
@@ -26,7 +26,7 @@ class MovingObstaclesEnv(NavEnv):
     - the chosen target (uniform over the two)
     - the obstacles' speed (uniform in [0.05, 0.5] m per step) and their common position
       along the loop (uniform)
-    - the robot's start: x, y uniform in [-1.25, -0.75] m, heading uniform in [-pi, pi)
+    - the robot's start: x, y uniform in [-0.9, -0.4] m, heading uniform in [-45, 135] deg
 
     **Success Conditions:**
     - the robot's centre is within 0.3 m of the chosen target's centre (reward +20)
@@ -37,7 +37,6 @@ class MovingObstaclesEnv(NavEnv):
     """
 
     world = World(
-        arena=Arena(x_range=(-2.0, 4.5), y_range=(-2.0, 4.5)),
         targets=(Static((3.0, 3.0)), Static((3.0, 1.0))),
         obstacles=(
             Obstacles(
@@ -49,5 +48,4 @@ class MovingObstaclesEnv(NavEnv):
                 ),
             ),
         ),
-        start=StartArea(x_range=(-1.25, -0.75), y_range=(-1.25, -0.75)),
     )

@@ -2,7 +2,7 @@ from mani_skill.utils.registration import register_env
 
 from ..motion import BackAndForth, Static
 from ..nav_env import NavEnv
-from ..world import Arena, Obstacles, StartArea, World
+from ..world import Obstacles, World
 
 
 @register_env("DynNav-MovingTarget-v1", max_episode_steps=NavEnv.max_episode_steps)
@@ -23,7 +23,7 @@ class MovingTargetEnv(NavEnv):
     **Randomizations:**
     - the chosen target (uniform over the three)
     - each target's start point on its segment (uniform) and direction (either way)
-    - the robot's start: x, y uniform in [-1.25, -0.75] m, heading uniform in [-pi, pi)
+    - the robot's start: x, y uniform in [-0.9, -0.4] m, heading uniform in [-45, 135] deg
 
     **Success Conditions:**
     - the robot's centre is within 0.3 m of the chosen target's centre (reward +20)
@@ -34,7 +34,6 @@ class MovingTargetEnv(NavEnv):
     """
 
     world = World(
-        arena=Arena(x_range=(-2.0, 4.5), y_range=(-2.0, 4.5)),
         targets=(
             BackAndForth(center=(-0.5, 3.0), direction=(0, 1), amplitude=0.5, speed=0.05),
             BackAndForth(center=(3.0, 3.0), direction=(0, 1), amplitude=0.5, speed=0.05),
@@ -45,5 +44,4 @@ class MovingTargetEnv(NavEnv):
             Obstacles(half_size=(0.25, 0.25), motion=Static((1.1, 1.1))),
             Obstacles(half_size=(0.25, 0.25), motion=Static((1.2, -0.8))),
         ),
-        start=StartArea(x_range=(-1.25, -0.75), y_range=(-1.25, -0.75)),
     )

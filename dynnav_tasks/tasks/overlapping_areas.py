@@ -3,7 +3,7 @@ from mani_skill.utils.registration import register_env
 from ..motion import RandomInRect
 from ..nav_env import NavEnv
 from ..world import Obstacles, World
-from .motion_areas import ARENA, OBSTACLE_SPEED, START, TARGET_AREAS
+from .motion_areas import OBSTACLE_SPEED, TARGET_AREAS
 
 
 @register_env("DynNav-OverlappingAreas-v1", max_episode_steps=NavEnv.max_episode_steps)
@@ -32,11 +32,9 @@ class OverlappingAreasEnv(NavEnv):
     """
 
     world = World(
-        arena=ARENA,
         targets=TARGET_AREAS,
         obstacles=(
             Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(1.5, 3.0), y_range=(2.0, 3.2), speed_range=OBSTACLE_SPEED)),
             Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(1.5, 3.0), y_range=(-1.5, -0.4), speed_range=OBSTACLE_SPEED)),
         ),
-        start=START,
     )

@@ -2,7 +2,7 @@ from mani_skill.utils.registration import register_env
 
 from ..motion import RandomInRect
 from ..nav_env import NavEnv
-from ..world import Arena, Obstacles, StartArea, World
+from ..world import Obstacles, World
 
 
 @register_env("DynNav-VisualMovingTargets-v1", max_episode_steps=NavEnv.max_episode_steps)
@@ -23,7 +23,7 @@ class VisualMovingTargetsEnv(NavEnv):
     **Randomizations:**
     - the chosen target; every target and obstacle step's heading change and length; the
       obstacles' start points (uniform in their areas)
-    - the robot's start: x, y uniform in [-1.25, -0.75] m, heading uniform in [-pi, pi)
+    - the robot's start: x, y uniform in [-0.9, -0.4] m, heading uniform in [-45, 135] deg
 
     **Success Conditions:**
     - the robot's centre is within 0.3 m of the chosen target's centre (reward +20)
@@ -35,7 +35,6 @@ class VisualMovingTargetsEnv(NavEnv):
 
     camera_world = True
     world = World(
-        arena=Arena(x_range=(-2.0, 4.5), y_range=(-2.0, 4.5)),
         targets=(
             RandomInRect(x_range=(2.8, 3.8), y_range=(2.6, 3.8), speed_range=(0.05, 0.1), start=(3.3, 3.2)),
             RandomInRect(x_range=(2.8, 3.8), y_range=(-1.2, 0.0), speed_range=(0.05, 0.1), start=(3.3, -0.6)),
@@ -44,5 +43,4 @@ class VisualMovingTargetsEnv(NavEnv):
             Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(0.6, 2.0), y_range=(1.6, 3.4))),
             Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(0.6, 2.0), y_range=(-1.5, 0.6))),
         ),
-        start=StartArea(x_range=(-1.25, -0.75), y_range=(-1.25, -0.75)),
     )

@@ -2,7 +2,7 @@ from mani_skill.utils.registration import register_env
 
 from ..motion import BackAndForth, Static
 from ..nav_env import NavEnv
-from ..world import Arena, Obstacles, StartArea, World
+from ..world import Obstacles, World
 
 
 @register_env("DynNav-VisualStaticTarget-v1", max_episode_steps=NavEnv.max_episode_steps)
@@ -21,7 +21,7 @@ class VisualStaticTargetEnv(NavEnv):
 
     **Randomizations:**
     - each obstacle's start point on its segment (uniform) and direction (either way)
-    - the robot's start: x, y uniform in [-1.25, -0.75] m, heading uniform in [-pi, pi)
+    - the robot's start: x, y uniform in [-0.9, -0.4] m, heading uniform in [-45, 135] deg
 
     **Success Conditions:**
     - the robot's centre is within 0.3 m of the target's centre (reward +20)
@@ -33,11 +33,9 @@ class VisualStaticTargetEnv(NavEnv):
 
     camera_world = True
     world = World(
-        arena=Arena(x_range=(-2.0, 4.5), y_range=(-2.0, 4.5)),
         targets=(Static((3.0, 3.0)),),
         obstacles=(
             Obstacles(half_size=(0.25, 0.25), motion=BackAndForth(center=(1.0, 1.0), direction=(1, 0), amplitude=1.5, speed=0.1)),
             Obstacles(half_size=(0.25, 0.25), motion=BackAndForth(center=(1.5, 3.1), direction=(0, 1), amplitude=0.8, speed=0.08)),
         ),
-        start=StartArea(x_range=(-1.25, -0.75), y_range=(-1.25, -0.75)),
     )

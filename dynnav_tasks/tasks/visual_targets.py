@@ -2,7 +2,7 @@ from mani_skill.utils.registration import register_env
 
 from ..motion import BackAndForth, RandomInRect, Static
 from ..nav_env import NavEnv
-from ..world import Arena, Obstacles, StartArea, World
+from ..world import Obstacles, World
 
 
 @register_env("DynNav-VisualTargets-v1", max_episode_steps=NavEnv.max_episode_steps)
@@ -25,7 +25,7 @@ class VisualTargetsEnv(NavEnv):
     **Randomizations:**
     - the chosen target; the random obstacles' start points, heading changes and step
       lengths; the regular obstacle's start point and direction
-    - the robot's start: x, y uniform in [-1.25, -0.75] m, heading uniform in [-pi, pi)
+    - the robot's start: x, y uniform in [-0.9, -0.4] m, heading uniform in [-45, 135] deg
 
     **Success Conditions:**
     - the robot's centre is within 0.3 m of the chosen target's centre (reward +20)
@@ -37,12 +37,10 @@ class VisualTargetsEnv(NavEnv):
 
     camera_world = True
     world = World(
-        arena=Arena(x_range=(-2.0, 4.5), y_range=(-2.0, 4.5)),
         targets=(Static((3.4, 3.0)), Static((3.2, -0.5)), Static((-0.5, 3.5))),
         obstacles=(
             Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(0.5, 1.8), y_range=(1.8, 3.2))),
             Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(1.2, 2.2), y_range=(-1.2, 0.4))),
             Obstacles(half_size=(0.25, 0.25), motion=BackAndForth(center=(2.5, 2.2), direction=(0, 1), amplitude=1.2, speed=0.1)),
         ),
-        start=StartArea(x_range=(-1.25, -0.75), y_range=(-1.25, -0.75)),
     )
