@@ -227,7 +227,6 @@ class NavEnv(BaseEnv):
         self.agent.controller.reset()
 
         self._terminal = False
-        self._collided = False
         self._path_length = 0.0
         self._reward = 0.0
         self._sense()
@@ -257,7 +256,7 @@ class NavEnv(BaseEnv):
 
         prev = self._sensed
         self._sense()
-        info = self.get_info()
+        info = self.get_info()  # evaluate() decides success and collision
         reached, collided = self._success, self._collided
         self._reward = R.compute_reward(
             self._reward_mode,
@@ -305,8 +304,7 @@ class NavEnv(BaseEnv):
         obstacle_xy = np.concatenate([self._static_obstacle_xy, self._moving_xy])
         self._d2 = float(box_distance(self._robot_xy, obstacle_xy, self._obstacle_half).min()) if len(obstacle_xy) else math.inf
         self._bearing = float(wrap_angle(math.atan2(ty - y, tx - x) - yaw))
-        self._collided = self._in_collision()
-        self._success = self._d1 <= self.reach_radius and not self._collided
+        self._contact = self._in_collision()
         self._sensed = (self._d1, self._d2, self._bearing)
 
     def _in_collision(self) -> bool:
@@ -335,7 +333,9 @@ class NavEnv(BaseEnv):
         return super().reset(seed=seed, options=options)
 
     def evaluate(self) -> dict:
-        """The single source of success and failure."""
+        """The single source of success and failure (decided here, read by ``step``)."""
+        self._collided = self._contact
+        self._success = self._d1 <= self.reach_radius and not self._collided
         timeout = self._step_count >= self.max_episode_steps and not (self._success or self._collided)
         return dict(
             success=torch.tensor([self._success]),
