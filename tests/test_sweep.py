@@ -1,0 +1,119 @@
+"""Sweeps on local Ray (agents.sweep) and the results report (agents.report), with tiny runs."""
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+import ray
+
+from agents.report import episodes_to_converge, write_report
+from agents.sweep import SUMMARY, find_run_dir, plan, run_sweep
+
+TINY = """task: DynNav-MovingTarget-v1
+reward_mode: distance
+reward_params: {{distance_gamma: {gamma}}}
+episodes: {episodes}
+hidden_sizes: [16]
+batch_size: 16
+learning_starts: 50
+checkpoint_every: 2
+eval_episodes: 3
+eval_picture: false
+"""
+
+# Named like two experiments of the study's Fig. 6.7 so that the report draws that figure.
+A, B = "distance_gamma_0_1_5_2", "distance_gamma_0_3_5_2"
+
+
+@pytest.fixture(scope="module")
+def local_ray():
+    ray.init(address="local", num_cpus=2, include_dashboard=False, log_to_driver=False)
+    yield
+    ray.shutdown()
+
+
+@pytest.fixture(scope="module")
+def sweep(tmp_path_factory, local_ray):
+    """A finished two-run sweep: (config paths, sweep folder, summary)."""
+    root = tmp_path_factory.mktemp("sweep")
+    configs = []
+    for name, gamma in ((A, 0.1), (B, 0.3)):
+        path = root / f"{name}.yaml"
+        path.write_text(TINY.format(gamma=gamma, episodes=4))
+        configs.append(str(path))
+    out = root / "out"
+    summary = run_sweep(configs, [1], out, verbose=False)
+    return configs, out, summary
+
+
+def _run_dir(out: Path, experiment: str) -> Path:
+    run_dir = find_run_dir(out / experiment / "seed1")
+    assert run_dir is not None
+    return run_dir
+
+
+def test_sweep_runs_every_experiment_and_the_report_shows_them(sweep, tmp_path):
+    configs, out, summary = sweep
+    assert summary["counts"]["done"] == 2 and summary["counts"]["failed"] == 0
+    assert json.loads((out / SUMMARY).read_text()) == summary
+    for name, gamma in ((A, 0.1), (B, 0.3)):
+        run_dir = _run_dir(out, name)
+        result = json.loads((run_dir / "eval.json").read_text())
+        assert result["trained_episodes"] == 4 and result["summary"]["episodes"] == 3
+        assert f"distance_gamma: {gamma}" in (run_dir / "config.yaml").read_text()
+        assert len((run_dir / "metrics.csv").read_text().splitlines()) == 1 + 4
+    report = write_report([out], tmp_path / "RESULTS.md")
+    text = report.read_text()
+    for name in (A, B):
+        row = next(line for line in text.splitlines() if line.startswith(f"| `{name}`"))
+        rate = json.loads((_run_dir(out, name) / "eval.json").read_text())["summary"]["success_rate"]
+        assert f"| 1 | {rate:.0%} (" in row  # one seed, its own rate
+    picture = tmp_path / "docs" / "results" / "fig6_7_distance_gamma.png"
+    assert picture.is_file() and picture.stat().st_size < 150_000
+    assert "docs/results/fig6_7_distance_gamma.png" in text
+
+
+def test_restarted_sweep_skips_finished_runs_and_resumes_the_others(sweep):
+    configs, out, _ = sweep
+    run_a, run_b = _run_dir(out, A), _run_dir(out, B)
+    b_checkpoint = (run_b / "checkpoint.pkl").stat().st_mtime_ns
+    # A: test phase missing and two more episodes wanted -> continued from its checkpoint
+    (run_a / "eval.json").unlink()
+    Path(configs[0]).write_text(TINY.format(gamma=0.1, episodes=6))
+    summary = run_sweep(configs, [1], out, verbose=False)
+    status = {r["experiment"]: r["status"] for r in summary["runs"]}
+    assert status == {A: "resumed", B: "skipped"}
+    assert _run_dir(out, A) == run_a  # the same directory, not a new run
+    info = json.loads((run_a / "sweep_run.json").read_text())
+    assert info["resumed_at_episode"] == 4
+    episodes = [line.split(",")[0] for line in (run_a / "metrics.csv").read_text().splitlines()[1:]]
+    assert episodes == [str(i) for i in range(6)]
+    assert json.loads((run_a / "eval.json").read_text())["trained_episodes"] == 6
+    assert (run_b / "checkpoint.pkl").stat().st_mtime_ns == b_checkpoint
+
+
+def test_a_failing_run_is_reported_with_its_error(tmp_path, local_ray):
+    bad = tmp_path / "bad_task.yaml"
+    bad.write_text(TINY.format(gamma=0.2, episodes=2).replace("DynNav-MovingTarget-v1", "DynNav-NoSuchWorld-v1"))
+    summary = run_sweep([str(bad)], [1], tmp_path / "out", max_retries=0, verbose=False)
+    (run,) = summary["runs"]
+    assert run["status"] == "failed" and "DynNav-NoSuchWorld-v1" in run["error"]
+    assert summary["counts"]["failed"] == 1
+
+
+def test_a_wrong_config_is_an_error_before_anything_runs(tmp_path):
+    wrong = tmp_path / "typo.yaml"
+    wrong.write_text("task: DynNav-MovingTarget-v1\nepisodez: 4\n")
+    with pytest.raises(ValueError, match=r"typo\.yaml.*'episodez'.*'episodes'"):
+        plan([str(wrong)], [1], tmp_path / "out")
+    with pytest.raises(ValueError, match="does not exist"):
+        plan([str(tmp_path / "missing.yaml")], [1], tmp_path / "out")
+
+
+def test_episodes_to_converge():
+    # 0% for 300 episodes, then 80%: the 100-episode rate reaches 0.9 * 0.8 (72 of 100) at episode 389
+    success = np.r_[np.zeros(300), np.tile([1, 1, 1, 1, 0], 100)].astype(float)
+    assert episodes_to_converge(success) == 389
+    assert episodes_to_converge(np.zeros(500)) is None  # never learned
+    assert episodes_to_converge(np.ones(50)) is None  # shorter than one window
