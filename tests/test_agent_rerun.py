@@ -7,16 +7,12 @@ from agents.dqn import main, train
 from agents.evaluate import evaluate
 from dynnav_tasks.record import Args
 from dynnav_tasks.record import main as record_main
+from test_agent_training import small as small_run
 from test_recording import column, read_back
 
 
 def small(tmp_path, **overrides) -> Config:
-    values = dict(task="DynNav-MovingTarget-v1", reward_mode="distance", episodes=5, learning_starts=64,
-                  batch_size=32, hidden_sizes=(32, 32), buffer_size=5000, checkpoint_every=5,
-                  target_update_interval=50, epsilon_decay_episodes=4, runs_dir=str(tmp_path / "runs"),
-                  progress=False, eval_after_training=False, seed=3)
-    values.update(overrides)
-    return Config(**values).validate()
+    return small_run(tmp_path, **{"episodes": 5, "checkpoint_every": 5, **overrides})
 
 
 def test_training_records_every_nth_episode_and_the_curves(tmp_path):
