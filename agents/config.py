@@ -237,11 +237,12 @@ def save_yaml(config: Config, path: str | Path) -> None:
     atomic_write_bytes(path, yaml.safe_dump(config.to_yaml_dict(), sort_keys=False).encode())
 
 
-def _config_arg(argv: list[str]) -> Optional[str]:
+def _flag_value(argv: list[str], flag: str) -> Optional[str]:
+    """The value given to ``flag`` (``--flag v`` or ``--flag=v``), or None."""
     for i, arg in enumerate(argv):
-        if arg == "--config" and i + 1 < len(argv):
+        if arg == flag and i + 1 < len(argv):
             return argv[i + 1]
-        if arg.startswith("--config="):
+        if arg.startswith(flag + "="):
             return arg.split("=", 1)[1]
     return None
 
@@ -250,8 +251,8 @@ def parse_args(argv: Optional[list[str]] = None) -> Config:
     """Command line -> Config: ``--config`` YAML first (or a resumed run's config), then flags."""
     argv = list(sys.argv[1:] if argv is None else argv)
     default = Config()
-    base = _config_arg(argv)
-    resume = _resume_arg(argv)
+    base = _flag_value(argv, "--config")
+    resume = _flag_value(argv, "--resume")
     if resume and not base:
         base = str(Path(resume) / "config.yaml")
     if base:
@@ -259,11 +260,3 @@ def parse_args(argv: Optional[list[str]] = None) -> Config:
     config = tyro.cli(Config, args=argv, default=default, description=Config.__doc__)
     return config.validate()
 
-
-def _resume_arg(argv: list[str]) -> Optional[str]:
-    for i, arg in enumerate(argv):
-        if arg == "--resume" and i + 1 < len(argv):
-            return argv[i + 1]
-        if arg.startswith("--resume="):
-            return arg.split("=", 1)[1]
-    return None
