@@ -129,7 +129,7 @@ class AutoEncoderTrainer:
         loss.backward()
         self.optimizer.step()
         self.model.eval()
-        return float(loss)
+        return loss.item()
 
     def state_dict(self) -> dict:
         return {"model": self.model.state_dict(), "optimizer": self.optimizer.state_dict()}

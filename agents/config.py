@@ -102,6 +102,36 @@ class Config:
     epsilon_schedule: Literal["linear", "exponential"] = "linear"
     """how epsilon moves from epsilon_start to epsilon_end"""
 
+    # --- camera state representation (thesis Sec. 4.3, 5.2.3, Alg. 2; dynnav tasks)
+    camera_frames: int = 0
+    """0: the Q-network reads the task's state vector; 1: the auto-encoded RGB camera frame;
+    N >= 2: the auto-encoded stack of the last N gray frames"""
+    camera_state: tuple[str, ...] = ()
+    """with a camera: parts of the state vector fed beside the latent (Table 5.4), e.g. lasers robot_xy
+    obstacles (every obstacle's position); see the task's state_layout()"""
+    ae_latent: int = 0
+    """auto-encoder latent size; 0: 10 for one frame, 15 for stacks (Table 5.3)"""
+    ae_conv_channels: tuple[int, ...] = ()
+    """filters of the two convolutions; empty: 32 64 for one frame, 64 128 for stacks"""
+    ae_dense: int = 64
+    """width of the auto-encoder's dense layer"""
+    ae_learning_rate: float = 0.001
+    """Adam learning rate of the auto-encoder"""
+    ae_first_update: int = 400
+    """episode of the first auto-encoder update; before it actions are random and the Q-network does not train"""
+    ae_update_every: int = 400
+    """episodes between auto-encoder updates"""
+    ae_updates: int = 0
+    """number of auto-encoder updates; 0: 3 for one frame, 4 for stacks"""
+    ae_iterations: int = 0
+    """iterations per update; 0: 20 for one frame, 40 for stacks"""
+    ae_batches: int = 0
+    """batches per iteration; 0: 50 for one frame, 25 for stacks"""
+    ae_batch_size: int = 256
+    """frames per auto-encoder batch"""
+    ae_pictures_every: int = 100
+    """save observation / reconstruction pairs every this many episodes once the auto-encoder is trained"""
+
     # --- test phase
     eval: bool = False
     """test a checkpoint (--checkpoint) instead of training"""
@@ -128,11 +158,13 @@ class Config:
     def validate(self) -> "Config":
         """Raise ValueError naming the first field with an impossible value."""
         positive = ["episodes", "checkpoint_every", "batch_size", "buffer_size", "train_frequency",
-                    "target_update_interval", "eval_episodes", "lr_decay_episodes", "rerun_every"]
+                    "target_update_interval", "eval_episodes", "lr_decay_episodes", "rerun_every",
+                    "ae_dense", "ae_update_every", "ae_batch_size", "ae_pictures_every"]
         for name in positive:
             if getattr(self, name) < 1:
                 raise ValueError(f"{name} must be at least 1, got {getattr(self, name)}")
-        for name in ("learning_starts", "random_episodes", "epsilon_decay_episodes"):
+        for name in ("learning_starts", "random_episodes", "epsilon_decay_episodes", "camera_frames", "ae_latent",
+                     "ae_first_update", "ae_updates", "ae_iterations", "ae_batches"):
             if getattr(self, name) < 0:
                 raise ValueError(f"{name} must not be negative, got {getattr(self, name)}")
         checks = {
@@ -144,10 +176,15 @@ class Config:
             "epsilon_end": 0.0 <= self.epsilon_end <= 1.0,
             "max_grad_norm": self.max_grad_norm >= 0,
             "hidden_sizes": len(self.hidden_sizes) > 0 and all(h > 0 for h in self.hidden_sizes),
+            "ae_learning_rate": self.ae_learning_rate > 0,
+            "ae_conv_channels": len(self.ae_conv_channels) in (0, 2) and all(c > 0 for c in self.ae_conv_channels),
         }
         for name, ok in checks.items():
             if not ok:
                 raise ValueError(f"{name} has an impossible value: {getattr(self, name)!r}")
+        if self.camera_state and not self.camera_frames:
+            raise ValueError("camera_state selects state parts to feed beside the camera's latent: set camera_frames "
+                             "too (without a camera the whole state vector is used)")
         if self.eval and not self.checkpoint:
             raise ValueError("--eval needs --checkpoint <checkpoint file or run directory>")
         return self

@@ -32,9 +32,9 @@ import numpy as np
 
 from . import checkpoint as ckpt
 from .config import Config, parse_args, save_yaml
-from .envs import ObsScaler, is_dynnav, make_env
+from .envs import is_dynnav, make_env
+from .experience import make_experience
 from .qnetwork import QLearner
-from .replay import ReplayMemory
 from .schedules import epsilon_at, learning_rate_at
 from .threads import limit_threads
 
@@ -76,24 +76,31 @@ def train(config: Config) -> Path:
     recorder = open_recorder(config.rerun, config.task)  # checks the recording path before any work
     # --- run directory, environment, agent
     resumed = ckpt.load(config.resume) if config.resume else None
-    env = make_env(config.task, config.reward_mode, config.reward_params, config.task_kwargs)
+    env = make_env(config.task, config.reward_mode, config.reward_params, config.task_kwargs, config.camera_frames)
     run_dir = Path(config.resume) if config.resume else new_run_dir(config)
     save_yaml(config, run_dir / "config.yaml")  # a resumed run may have changed e.g. the episode count
-    obs_dim, n_actions = env.observation_space.shape[0], int(env.action_space.n)
-    scale = ObsScaler(env.observation_space, config.normalize_obs)
+    experience = make_experience(env, config)  # what the Q-network reads and the replay memory keeps
+    srl = experience.srl  # the camera's auto-encoder (None for state runs)
+    obs_dim, n_actions = experience.dim, int(env.action_space.n)
     rng = np.random.default_rng(config.seed)
     learner = QLearner(obs_dim, n_actions, config.hidden_sizes, config.batch_size, config.gamma,
                        double=config.algorithm == "ddqn", loss=config.loss, max_grad_norm=config.max_grad_norm,
                        learning_rate=config.learning_rate, rng=rng)
-    memory = ReplayMemory(config.buffer_size, obs_dim)
     start_episode, global_step, wall_time = 0, 0, 0.0
     if resumed:
         learner.load_state_dict(resumed["learner"])
-        memory.load_state_dict(resumed["memory"])
+        experience.memory.load_state_dict(resumed["memory"])
+        if srl is not None:
+            srl.load_state_dict(resumed["srl"])
         rng.bit_generator.state = resumed["rng"]
         start_episode, global_step, wall_time = resumed["episode"], resumed["global_step"], resumed["wall_time_s"]
         keep_metric_rows(run_dir / "metrics.csv", start_episode)
         print(f"resuming {run_dir} at episode {start_episode} (step {global_step})")
+    elif srl is not None:
+        memory_mb = experience.memory.nbytes / 1e6
+        print(f"camera state: {srl.settings.frames} frame(s) -> latent {srl.latent_dim} + {obs_dim - srl.latent_dim} "
+              f"state values; observation memory {memory_mb:.0f} MB; auto-encoder updates after episodes "
+              f"{', '.join(map(str, srl.settings.update_episodes))}")
 
     metrics_path = run_dir / "metrics.csv"
     new_file = not metrics_path.exists()
@@ -106,7 +113,8 @@ def train(config: Config) -> Path:
         metrics_file.flush()
         ckpt.save(run_dir / ckpt.FILENAME, dict(
             config=config.to_yaml_dict(), episode=episodes_done, global_step=global_step,
-            wall_time_s=wall_time, learner=learner.state_dict(), memory=memory.state_dict(),
+            wall_time_s=wall_time, learner=learner.state_dict(), memory=experience.memory.state_dict(),
+            srl=srl.state_dict() if srl is not None else None,
             rng=rng.bit_generator.state, obs_dim=obs_dim, n_actions=n_actions,
         ))
         from .plots import plot_learning_curves
@@ -122,40 +130,41 @@ def train(config: Config) -> Path:
         bar = tqdm(total=config.episodes, initial=start_episode, desc=config.task, unit="ep", dynamic_ncols=True,
                    mininterval=0.5)
     for episode in range(start_episode, config.episodes):
-        epsilon = epsilon_at(config, episode)
+        # Alg. 2: with a camera, act at random until the auto-encoder's first update
+        epsilon = epsilon_at(config, episode) if experience.ready else 1.0
         learner.learning_rate = learning_rate_at(config, episode)
         obs, _ = env.reset(seed=episode_seed(config.seed, episode))
-        obs = scale(obs)
+        x = experience.begin(obs)
         episode_return, length, losses = 0.0, 0, []
         recording = recorder is not None and episode % config.rerun_every == 0
         if recording:
             recorder.start_episode(env, episode)
         t0 = time.perf_counter()
         while True:
-            q_values = learner.q(obs) if recording else None
-            if rng.random() < epsilon:
+            acting = experience.ready
+            q_values = learner.q(x) if recording and acting else None
+            if not acting or rng.random() < epsilon:
                 action = int(rng.integers(n_actions))
             else:
-                action = int(np.argmax(q_values)) if recording else learner.act(obs)
+                action = int(np.argmax(q_values)) if recording else learner.act(x)
             next_obs, reward, terminated, truncated, info = env.step(action)
+            x = experience.step(action, float(reward), next_obs, bool(terminated))
             if recording:
-                recorder.log_step(env, action=action, reward=float(reward), q_values=q_values)
-            next_obs = scale(next_obs)
-            memory.add(obs, action, float(reward), next_obs, bool(terminated))
+                recorder.log_step(env, action=action, reward=float(reward), q_values=q_values,
+                                  **agent_views(srl, experience, next_obs))
             global_step += 1
             episode_return += float(reward)
             length += 1
 
-            if global_step > config.learning_starts and global_step % config.train_frequency == 0 \
-                    and len(memory) >= config.batch_size:
-                memory.sample_into(learner.batch, rng)
+            if acting and global_step > config.learning_starts and global_step % config.train_frequency == 0 \
+                    and len(experience) >= config.batch_size:
+                experience.sample_into(learner.batch, rng)
                 losses.append(learner.update())
                 if config.target_update == "soft":
                     learner.update_target(config.tau)
             if config.target_update == "hard" and global_step % config.target_update_interval == 0:
                 learner.update_target()
 
-            obs = next_obs
             if terminated or truncated:
                 break
         elapsed = time.perf_counter() - t0
@@ -180,6 +189,8 @@ def train(config: Config) -> Path:
             bar.update(1)
             bar.set_postfix(success=f"{np.mean(recent_success):.0%}", ret=f"{np.mean(recent_return):.1f}",
                             eps=f"{epsilon:.2f}", sps=f"{length / elapsed:.0f}", refresh=False)
+        if srl is not None:
+            update_state_representation(srl, experience.memory, rng, episode + 1, config, run_dir)
         if (episode + 1) % config.checkpoint_every == 0 or episode + 1 == config.episodes:
             save_checkpoint(episode + 1)
     if bar is not None:
@@ -189,6 +200,35 @@ def train(config: Config) -> Path:
     metrics_file.close()
     env.close()
     return run_dir
+
+
+def update_state_representation(srl, memory, rng, episodes_done: int, config: Config, run_dir: Path) -> None:
+    """After an episode: the scheduled auto-encoder update (Alg. 2) and the reconstruction pictures."""
+    from . import srl_pictures as pics
+
+    if srl.due(episodes_done):
+        losses = srl.update(memory, rng, progress=config.progress)
+        pics.append_srl_losses(run_dir / "srl_loss.csv", srl.updates_done, episodes_done, losses)
+        pics.plot_srl_losses(run_dir / "srl_loss.csv", run_dir / "srl_loss.png", title=config.task)
+    if srl.trained and episodes_done % config.ae_pictures_every == 0:
+        # eight observations from the end of the memory, three steps apart
+        slots = (memory.last - 3 * np.arange(min(8, 1 + (memory.size - 1) // 3))) % memory.capacity
+        frames = memory.frames[slots[::-1]]
+        pics.save_reconstruction_pairs(frames, srl.reconstruct(frames),
+                                       run_dir / "reconstructions" / f"episode_{episodes_done:05d}.png")
+
+
+def agent_views(srl, experience, obs) -> dict:
+    """The latent and the reconstruction of a camera observation, for a recording."""
+    if srl is None or not srl.trained:
+        return {}
+    frame = experience.encoder_features.split(obs)[0]
+    return dict(latent=experience.encoder_features.last_latent, reconstruction=_viewable(srl.reconstruct(frame)))
+
+
+def _viewable(frame: np.ndarray) -> np.ndarray:
+    """An RGB frame as it is; a stack of gray frames as its newest frame."""
+    return frame if frame.shape[-1] == 3 else frame[..., -1]
 
 
 def open_recorder(path, task: str):

@@ -37,8 +37,11 @@ def check_task(task: str) -> None:
 
 
 def make_env(task: str, reward_mode: str | None = None, reward_params: dict | None = None,
-             task_kwargs: dict | None = None) -> gym.Env:
-    """The environment for ``task`` with the plain gymnasium API (numpy in, numpy out)."""
+             task_kwargs: dict | None = None, camera_frames: int = 0) -> gym.Env:
+    """The environment for ``task`` with the plain gymnasium API (numpy in, numpy out).
+
+    ``camera_frames`` 0: observations are the state vector; 1: ``{"rgb": frame, "state": vector}``;
+    N >= 2: ``{"gray": last N gray frames, "state": vector}`` (dynnav tasks only)."""
     check_task(task)
     if is_dynnav(task):
         import dynnav_tasks
@@ -47,18 +50,27 @@ def make_env(task: str, reward_mode: str | None = None, reward_params: dict | No
         kwargs = {"reward_params": dict(reward_params or {}), **dict(task_kwargs or {})}
         if reward_mode is not None:
             kwargs["reward_mode"] = reward_mode
+        if camera_frames:
+            kwargs["obs_mode"] = "rgb+state"
         try:
             env = CPUGymWrapper(dynnav_tasks.make(task, **kwargs))
         except TypeError as err:  # an unknown keyword argument
             raise ValueError(f"{task}: {err}") from err
+        if camera_frames >= 2:
+            from dynnav_tasks.wrappers import GrayFrameStack
+
+            env = GrayFrameStack(env, num_frames=camera_frames)
     else:
-        if reward_mode is not None or reward_params or task_kwargs:
-            raise ValueError(f"reward_mode, reward_params and task_kwargs apply to dynnav tasks only, not {task!r}")
+        if reward_mode is not None or reward_params or task_kwargs or camera_frames:
+            raise ValueError(f"reward_mode, reward_params, task_kwargs and camera_frames apply to dynnav tasks "
+                             f"only, not {task!r}")
         env = gym.make(task)
     if not isinstance(env.action_space, gym.spaces.Discrete):
         env.close()
         raise ValueError(f"{task!r} has a {type(env.action_space).__name__} action space; DQN needs Discrete")
     space = env.observation_space
+    if camera_frames:
+        return env
     if not isinstance(space, gym.spaces.Box) or len(space.shape) != 1:
         env.close()
         raise ValueError(f"{task!r} observations are {space}; this agent needs a one-dimensional Box")

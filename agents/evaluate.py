@@ -66,11 +66,18 @@ def _slices(env) -> dict[str, slice]:
     return out
 
 
-def run_episodes(net: MLP, env, episodes: int, seed: int, dynnav: bool, scale=None, recorder=None) -> list[dict]:
+def state_of(obs):
+    """The state vector of an observation (camera runs observe ``{"rgb" or "gray": ..., "state": ...}``)."""
+    return obs["state"] if isinstance(obs, dict) else obs
+
+
+def run_episodes(net: MLP, env, episodes: int, seed: int, dynnav: bool, scale=None, recorder=None,
+                 latents: list | None = None) -> list[dict]:
     """Greedy rollouts of ``net`` on seeds seed, seed + 1, ...; one record per episode.
 
-    ``scale`` maps the env's state to the network's input (the ObsScaler used in training);
-    ``recorder`` (a dynnav_tasks.recording.Recorder) logs every step with its Q-values.
+    ``scale`` maps the env's observation to the network's input (the ObsScaler or CameraFeatures
+    used in training); ``recorder`` (a dynnav_tasks.recording.Recorder) logs every step with its
+    Q-values; ``latents``, for camera runs, receives (latent, target index, reward) per step.
     """
     scale = scale or (lambda obs: obs)
     parts = _slices(env) if dynnav else {}
@@ -80,20 +87,23 @@ def run_episodes(net: MLP, env, episodes: int, seed: int, dynnav: bool, scale=No
         obs, _ = env.reset(seed=seed + i)
         path, ret, steps = [], 0.0, 0
         if dynnav:
-            start, target = obs[parts["robot_xy"]].copy(), obs[parts["target_xy"]].copy()
+            start, target = state_of(obs)[parts["robot_xy"]].copy(), state_of(obs)[parts["target_xy"]].copy()
             path.append(start.tolist())
         if recorder is not None:
             recorder.start_episode(env, i)
         while True:
             q_values = net(scale(obs))
+            latent = getattr(scale, "last_latent", None)
             action = int(np.argmax(q_values))
             obs, reward, terminated, truncated, info = env.step(action)
             if recorder is not None:
-                recorder.log_step(env, action=action, reward=float(reward), q_values=q_values)
+                recorder.log_step(env, action=action, reward=float(reward), q_values=q_values, latent=latent)
+            if latents is not None and latent is not None:
+                latents.append((latent, env.unwrapped.target_index, float(reward)))
             ret += float(reward)
             steps += 1
             if dynnav:
-                path.append(obs[parts["robot_xy"]].tolist())
+                path.append(state_of(obs)[parts["robot_xy"]].tolist())
             if terminated or truncated:
                 break
         record = dict(seed=seed + i, outcome=outcome_of(info, bool(terminated)), steps=steps, ret=round(ret, 4))
@@ -195,11 +205,23 @@ def load_policy(checkpoint_path, **task_kwargs):
 
 
 def policy_from_state(config, state: dict, **task_kwargs):
-    """(env, Q-network, state scaler) for a loaded checkpoint ``state``."""
-    env = make_env(config.task, config.reward_mode, config.reward_params, {**config.task_kwargs, **task_kwargs})
+    """(env, Q-network, observation -> network input) for a loaded checkpoint ``state``.
+
+    For a camera run the input is the checkpoint's auto-encoder's latent of the frame (beside the
+    chosen state parts); the environment then observes ``{"rgb" or "gray": ..., "state": ...}``."""
+    env = make_env(config.task, config.reward_mode, config.reward_params, {**config.task_kwargs, **task_kwargs},
+                   config.camera_frames)
     net = MLP(state["learner"]["sizes"])
     net.flat[:] = state["learner"]["q"]
-    return env, net, ObsScaler(env.observation_space, config.normalize_obs)
+    if not config.camera_frames:
+        return env, net, ObsScaler(env.observation_space, config.normalize_obs)
+    from .experience import CameraFeatures
+    from .state_representation import SRLSettings, StateRepresentation
+
+    image = env.observation_space["rgb" if config.camera_frames == 1 else "gray"].shape[0]
+    srl = StateRepresentation(SRLSettings.from_config(config, image_size=image), seed=config.seed)
+    srl.load_state_dict(state["srl"])
+    return env, net, CameraFeatures(env, config, srl)
 
 
 def evaluate(checkpoint_path, episodes: int = 100, seed: int = 1_000_000, picture: bool = True,
@@ -217,9 +239,16 @@ def evaluate(checkpoint_path, episodes: int = 100, seed: int = 1_000_000, pictur
     env, net, scale = policy_from_state(config, state)
     out_dir = Path(out_dir) if out_dir is not None else path.parent
     dynnav = is_dynnav(config.task)
-    records = run_episodes(net, env, episodes, seed, dynnav, scale, recorder)
+    latents = [] if config.camera_frames else None
+    records = run_episodes(net, env, episodes, seed, dynnav, scale, recorder, latents)
     if recorder is not None:
         recorder.close()
+    if latents:
+        from .srl_pictures import plot_latents
+
+        z, targets, rewards = (np.array(v) for v in zip(*latents))
+        np.savez_compressed(out_dir / "latents.npz", latents=z, targets=targets, rewards=rewards)
+        plot_latents(z, targets, rewards, out_dir, title=config.task)
     summary = summarize(records)
     result = dict(task=config.task, checkpoint=str(path), trained_episodes=state["episode"], eval_seed=seed,
                   summary=summary, episodes=records)

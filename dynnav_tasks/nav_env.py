@@ -373,6 +373,11 @@ class NavEnv(BaseEnv):
         """The frame of the latest observation (None when the task renders no images)."""
         return getattr(self, "_camera_frame", None)
 
+    @property
+    def target_index(self) -> int:
+        """Which of the world's targets this episode's robot must reach (0-based)."""
+        return self._target_index
+
     def get_reward(self, obs, action, info):
         return torch.tensor([self._reward], dtype=torch.float32)
 

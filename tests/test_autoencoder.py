@@ -12,7 +12,6 @@ from agents.autoencoder import (
     ConvAutoEncoder,
     reconstruction_loss,
 )
-from agents.frame_memory import FrameMemory
 
 
 @pytest.mark.parametrize("spec, shape", [(SINGLE_RGB, (32, 32, 3)), (STACKED_GRAY, (32, 32, 4))])
@@ -71,28 +70,11 @@ def test_reconstruction_loss_falls_on_rendered_frames(rendered_frames):
     with torch.no_grad():
         before = float(reconstruction_loss(ae(x)[1], x))
     rng = np.random.default_rng(0)
-    memory = FrameMemory(128, (32, 32, 3))
-    for f in rendered_frames:
-        memory.add(f)
     for _ in range(150):
-        trainer.train_batch(memory.sample(32, rng))
+        trainer.train_batch(rendered_frames[rng.integers(0, len(rendered_frames), 32)])
     with torch.no_grad():
         after = float(reconstruction_loss(ae(x)[1], x))
     assert after < 0.25 * before, (before, after)
     # the latent tells frames apart
     z = ae.encode(rendered_frames)
     assert np.std(z, axis=0).mean() > 1e-3
-
-
-def test_frame_memory_is_uint8_and_wraps():
-    memory = FrameMemory(3, (32, 32, 3))
-    assert memory.nbytes == 3 * 32 * 32 * 3
-    for v in range(5):
-        memory.add(np.full((32, 32, 3), v, np.uint8))
-    assert memory.size == 3 and sorted(int(f[0, 0, 0]) for f in memory.frames) == [2, 3, 4]
-    with pytest.raises(ValueError, match="uint8 frame of shape"):
-        memory.add(np.zeros((32, 32, 3), np.float32))
-    restored = FrameMemory(3, (32, 32, 3))
-    restored.load_state_dict(memory.state_dict())
-    np.testing.assert_array_equal(restored.frames, memory.frames)
-    assert (restored.size, restored.next) == (memory.size, memory.next)

@@ -1,0 +1,126 @@
+"""Camera runs: the auto-encoder on the thesis's Algorithm 2 schedule, end to end on world 5.5a/5.5c.
+
+Small settings: the auto-encoder updates after episodes 2 and 4, with 2 iterations of 2
+batches; the runs share this process's camera renderer with the other camera tests."""
+
+import csv
+import shutil
+
+import numpy as np
+import pytest
+import torch
+
+import agents.dqn as dqn
+from agents import checkpoint as ckpt
+from agents.config import Config
+from agents.evaluate import evaluate, load_policy
+from agents.state_representation import SRLSettings
+
+CASES = {
+    "rgb": dict(task="DynNav-VisualStaticTarget-v1", camera_frames=1),
+    "stack+lasers": dict(task="DynNav-VisualMovingTargets-v1", camera_frames=2, camera_state=("lasers",)),
+}
+
+
+def small(tmp_path, **overrides) -> Config:
+    values = dict(episodes=6, ae_first_update=2, ae_update_every=2, ae_updates=2, ae_iterations=2, ae_batches=2,
+                  ae_batch_size=16, ae_pictures_every=2, learning_starts=32, batch_size=16, hidden_sizes=(16,),
+                  buffer_size=2000, checkpoint_every=1, random_episodes=2, epsilon_decay_episodes=2,
+                  runs_dir=str(tmp_path / "runs"), progress=False, eval_after_training=False, seed=5)
+    values.update(overrides)
+    return Config(**values).validate()
+
+
+def encoder_fingerprint(srl) -> float:
+    return float(sum(p.detach().double().sum() for p in srl.model.encoder.parameters()))
+
+
+@pytest.fixture(scope="module", params=list(CASES))
+def camera_run(request, tmp_path_factory):
+    """A small camera training run, with the encoder's weights noted after every episode."""
+    config = small(tmp_path_factory.mktemp(request.param), **CASES[request.param])
+    after_episode = {}
+    original = dqn.update_state_representation
+
+    def spy(srl, memory, rng, episodes_done, cfg, run_dir):
+        original(srl, memory, rng, episodes_done, cfg, run_dir)
+        after_episode[episodes_done] = (encoder_fingerprint(srl), srl.updates_done)
+        spy.srl, spy.memory = srl, memory
+
+    dqn.update_state_representation = spy
+    try:
+        run_dir = dqn.train(config)
+    finally:
+        dqn.update_state_representation = original
+    return config, run_dir, after_episode, spy.srl, spy.memory
+
+
+def metric_rows(run_dir):
+    with open(run_dir / "metrics.csv", newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def test_phases_switch_at_the_configured_episodes(camera_run):
+    config, run_dir, after_episode, srl, _ = camera_run
+    rows = metric_rows(run_dir)
+    assert len(rows) == 6
+    for r in rows[:2]:  # before the first update: random actions, no Q-network training
+        assert float(r["epsilon"]) == 1.0 and r["loss"] == ""
+    for r in rows[2:]:
+        assert float(r["epsilon"]) < 1.0 and r["loss"] != ""
+    with open(run_dir / "srl_loss.csv", newline="") as f:
+        updates = list(csv.DictReader(f))
+    assert [(int(u["update"]), int(u["episode"])) for u in updates] == [(1, 2), (1, 2), (2, 4), (2, 4)]
+    assert [after_episode[e][1] for e in range(1, 7)] == [0, 1, 1, 2, 2, 2]
+    for name in ("srl_loss.png", "reconstructions/episode_00002.png", "reconstructions/episode_00006.png"):
+        assert (run_dir / name).is_file(), name
+
+
+def test_encoder_is_frozen_between_updates(camera_run):
+    _, _, after_episode, _, _ = camera_run
+    w = {e: after_episode[e][0] for e in range(1, 7)}
+    assert w[2] != w[1] and w[4] != w[3]  # the updates change it
+    assert w[3] == w[2] and w[5] == w[4] == w[6]  # the Q-network's training does not
+
+
+def test_replayed_latents_come_from_the_current_encoder(camera_run):
+    _, _, _, srl, memory = camera_run
+    n = memory.size
+    np.testing.assert_allclose(memory.latents[:n], srl.encode(memory.frames[:n]), rtol=1e-4, atol=1e-4)
+
+
+def test_checkpoint_restores_the_auto_encoder_with_the_q_network(camera_run):
+    config, run_dir, _, srl, memory = camera_run
+    state = ckpt.load(run_dir)
+    assert state["episode"] == 6 and state["srl"]["updates_done"] == 2
+    _, env, net, features, _, _ = load_policy(run_dir)
+    for mine, saved in zip(features.srl.model.state_dict().values(), srl.model.state_dict().values()):
+        torch.testing.assert_close(mine, saved, rtol=0, atol=0)
+    obs, _ = env.reset(seed=0)
+    x = features(obs)
+    settings = SRLSettings.from_config(config)
+    assert x.shape == (settings.spec.latent + (16 if config.camera_state else 0),)
+    frame = obs["rgb" if config.camera_frames == 1 else "gray"]
+    np.testing.assert_allclose(x[: settings.spec.latent], srl.encode(frame), rtol=1e-5, atol=1e-5)
+    assert net(x).shape == (3,)
+    env.close()
+
+
+def test_resume_continues_with_the_restored_auto_encoder(camera_run, tmp_path):
+    config, run_dir, _, _, _ = camera_run
+    copy = tmp_path / "run"
+    shutil.copytree(run_dir, copy)
+    resumed = dqn.train(Config(**{**vars(config), "episodes": 7, "resume": str(copy)}))
+    state = ckpt.load(resumed)
+    assert state["episode"] == 7 and state["srl"]["updates_done"] == 2
+    assert len(metric_rows(resumed)) == 7
+
+
+def test_test_phase_writes_latent_maps(camera_run):
+    _, run_dir, _, _, _ = camera_run
+    summary = evaluate(run_dir, episodes=2, verbose=False)
+    assert summary["episodes"] == 2
+    for name in ("latent_pca.png", "latent_tsne.png", "latents.npz", "trajectories.png"):
+        assert (run_dir / name).is_file(), name
+    data = np.load(run_dir / "latents.npz")
+    assert len(data["latents"]) == len(data["rewards"]) == len(data["targets"]) > 0
