@@ -150,8 +150,8 @@ def train(config: Config) -> Path:
             next_obs, reward, terminated, truncated, info = env.step(action)
             x = experience.step(action, float(reward), next_obs, bool(terminated))
             if recording:
-                recorder.log_step(env, action=action, reward=float(reward), q_values=q_values,
-                                  **agent_views(srl, experience, next_obs))
+                views = experience.encoder_features.views(next_obs) if srl is not None else {}
+                recorder.log_step(env, action=action, reward=float(reward), q_values=q_values, **views)
             global_step += 1
             episode_return += float(reward)
             length += 1
@@ -216,19 +216,6 @@ def update_state_representation(srl, memory, rng, episodes_done: int, config: Co
         frames = memory.frames[slots[::-1]]
         pics.save_reconstruction_pairs(frames, srl.reconstruct(frames),
                                        run_dir / "reconstructions" / f"episode_{episodes_done:05d}.png")
-
-
-def agent_views(srl, experience, obs) -> dict:
-    """The latent and the reconstruction of a camera observation, for a recording."""
-    if srl is None or not srl.trained:
-        return {}
-    frame = experience.encoder_features.split(obs)[0]
-    return dict(latent=experience.encoder_features.last_latent, reconstruction=_viewable(srl.reconstruct(frame)))
-
-
-def _viewable(frame: np.ndarray) -> np.ndarray:
-    """An RGB frame as it is; a stack of gray frames as its newest frame."""
-    return frame if frame.shape[-1] == 3 else frame[..., -1]
 
 
 def open_recorder(path, task: str):

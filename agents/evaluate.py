@@ -97,7 +97,8 @@ def run_episodes(net: MLP, env, episodes: int, seed: int, dynnav: bool, scale=No
             action = int(np.argmax(q_values))
             obs, reward, terminated, truncated, info = env.step(action)
             if recorder is not None:
-                recorder.log_step(env, action=action, reward=float(reward), q_values=q_values, latent=latent)
+                views = scale.views(obs) if hasattr(scale, "views") else {}
+                recorder.log_step(env, action=action, reward=float(reward), q_values=q_values, **views)
             if latents is not None and latent is not None:
                 latents.append((latent, env.unwrapped.target_index, float(reward)))
             ret += float(reward)

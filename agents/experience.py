@@ -105,6 +105,17 @@ class CameraFeatures:
     def __call__(self, obs) -> np.ndarray:
         return self.combine(*self.split(obs))
 
+    def views(self, obs) -> dict:
+        """The latent and the reconstruction of an observation's frame, for a recording (a stack of
+        gray frames shows its newest frame); empty before the auto-encoder's first update."""
+        if not self.srl.trained:
+            return {}
+        frame = self.split(obs)[0]
+        reconstruction = self.srl.reconstruct(frame)
+        if reconstruction.shape[-1] != 3:
+            reconstruction = reconstruction[..., -1]
+        return dict(latent=self.srl.encode(frame), reconstruction=reconstruction)
+
 
 class CameraExperience:
     """Camera runs: frames in a ``FrameReplay``, encoded by the frozen auto-encoder."""

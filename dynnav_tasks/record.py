@@ -7,7 +7,8 @@
 Without ``--checkpoint`` the policy is random, and camera worlds record the camera frame too
 (``--obs-mode`` defaults to ``rgb+state`` for them, ``state`` otherwise). With a checkpoint of
 ``agents.dqn`` the trained agent drives greedily on its own task and settings, and its
-Q-values are recorded every step. Saving needs no viewer; ``--spawn`` also opens one where a
+Q-values (and, for camera runs, the auto-encoder's latent and reconstruction) are recorded
+every step. Saving needs no viewer; ``--spawn`` also opens one where a
 display exists.
 """
 
@@ -39,10 +40,11 @@ class Args:
     """also open a Rerun viewer"""
 
 
-def record_episodes(env, recorder, episodes: int, seed: int, q_function=None) -> list[tuple[str, int]]:
+def record_episodes(env, recorder, episodes: int, seed: int, q_function=None, views=None) -> list[tuple[str, int]]:
     """Roll out episodes, logging every step; return (outcome, length) per episode.
 
     ``q_function(obs)`` gives Q-values to act greedily on (and to record); None: random actions.
+    ``views(obs)`` gives more agent outputs to record (an auto-encoder's latent and reconstruction).
     """
     rng = np.random.default_rng(seed)
     results = []
@@ -54,7 +56,8 @@ def record_episodes(env, recorder, episodes: int, seed: int, q_function=None) ->
             q_values = None if q_function is None else q_function(obs)
             action = int(rng.integers(env.action_space.n)) if q_values is None else int(np.argmax(q_values))
             obs, reward, terminated, truncated, info = env.step(action)
-            recorder.log_step(env, action=action, reward=float(reward), q_values=q_values)
+            recorder.log_step(env, action=action, reward=float(reward), q_values=q_values,
+                              **(views(obs) if views is not None else {}))
             steps += 1
             done = bool(terminated or truncated)
         results.append((recorder.end_episode(info), steps))
@@ -62,11 +65,11 @@ def record_episodes(env, recorder, episodes: int, seed: int, q_function=None) ->
 
 
 def trained_policy(checkpoint: Path):
-    """(env, q_function, task id) of an agents.dqn checkpoint."""
+    """(env, q_function, views, task id) of an agents.dqn checkpoint (views: None for state runs)."""
     from agents.evaluate import load_policy
 
-    config, env, net, scale, _, _ = load_policy(checkpoint)
-    return env, (lambda obs: net(scale(obs))), config.task
+    config, env, net, features, _, _ = load_policy(checkpoint)
+    return env, (lambda obs: net(features(obs))), getattr(features, "views", None), config.task
 
 
 def main(args: Args) -> None:
@@ -78,9 +81,9 @@ def main(args: Args) -> None:
     try:
         dynnav_tasks.check_choice(args.task, dynnav_tasks.TASK_IDS, "task id")
         recorder = Recorder(args.out, spawn=args.spawn)  # checks the output path before any work
-        q_function = None
+        q_function = views = None
         if args.checkpoint is not None:
-            env, q_function, task = trained_policy(args.checkpoint)
+            env, q_function, views, task = trained_policy(args.checkpoint)
             print(f"{task}: greedy policy of {args.checkpoint}")
         else:
             obs_mode = args.obs_mode or ("rgb+state" if args.task in dynnav_tasks.VISUAL_TASK_IDS else "state")
@@ -88,7 +91,7 @@ def main(args: Args) -> None:
     except ValueError as err:
         raise SystemExit(f"error: {err}")
     with recorder:
-        results = record_episodes(env, recorder, args.episodes, args.seed, q_function)
+        results = record_episodes(env, recorder, args.episodes, args.seed, q_function, views)
     env.close()
     for ep, (outcome, steps) in enumerate(results):
         print(f"episode {ep}: {outcome} after {steps} steps")

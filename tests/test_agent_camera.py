@@ -124,3 +124,19 @@ def test_test_phase_writes_latent_maps(camera_run):
         assert (run_dir / name).is_file(), name
     data = np.load(run_dir / "latents.npz")
     assert len(data["latents"]) == len(data["rewards"]) == len(data["targets"]) > 0
+
+
+def test_recording_of_a_camera_checkpoint_shows_latent_and_reconstruction(camera_run, tmp_path):
+    from dynnav_tasks.record import Args, main
+
+    from test_recording import read_back
+
+    config, run_dir, _, srl, _ = camera_run
+    out = tmp_path / "camera.rrd"
+    main(Args(checkpoint=run_dir, episodes=1, out=out))
+    data = read_back(out)
+    for entity in ("/agent/q_values", "/agent/latent", "/agent/reconstruction", "/world/robot/camera/image"):
+        assert entity in data, entity
+    latent_rows = sum(rb.num_rows for rb in data["/agent/latent"])
+    image_rows = sum(rb.num_rows for rb in data["/agent/reconstruction"])
+    assert latent_rows == image_rows > 0
