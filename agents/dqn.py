@@ -6,6 +6,7 @@ with discrete actions and a state vector.
     python -m agents.dqn --resume runs/<run>                            # continue a stopped run
     python -m agents.dqn --eval --checkpoint runs/<run>/checkpoint.pkl  # test phase only
     python -m agents.dqn --config ... --rerun runs/train.rrd            # also record (Rerun)
+    python -m agents.dqn --config configs/camera_5_5a.yaml              # camera + auto-encoder (Alg. 2)
 
 A run directory ``runs/<task>__<name>__<seed>__<time>/`` receives the resolved config
 (config.yaml), one metrics row per episode (metrics.csv), the checkpoint (checkpoint.pkl,
@@ -17,6 +18,11 @@ once ``learning_starts`` steps are stored, every ``train_frequency`` steps one g
 a minibatch; hard target copy every ``target_update_interval`` steps (or a soft update after
 every gradient step). A timeout (truncation) still bootstraps from Q(s'); a success or a
 collision (termination) does not. Epsilon and the learning rate change once per episode.
+
+Camera runs (``camera_frames`` > 0, thesis Alg. 2) read an auto-encoder's latent instead of
+the state vector (see agents/state_representation.py): actions are random and the Q-network
+does not train until the auto-encoder's first update; the updates run between episodes on
+their schedule, and write srl_loss.csv/png and reconstructions/ into the run directory.
 """
 
 from __future__ import annotations
