@@ -101,6 +101,50 @@ def test_5_4a_target_and_obstacle_areas_are_disjoint():
             assert _overlap(_area(t), (o_lo, o_hi)) is None
 
 
+def _free_path_exists(world, goal, clearance, cell=0.05):
+    """Whether the robot's centre can go from the start area to ``goal`` (a (lo, hi) area) on a
+    grid, keeping ``clearance`` from the walls and from every area a randomly moving obstacle's
+    box can cover."""
+    (x0, x1), (y0, y1) = world.arena.x_range, world.arena.y_range
+    xs, ys = np.arange(x0, x1 + 1e-9, cell), np.arange(y0, y1 + 1e-9, cell)
+    X, Y = np.meshgrid(xs, ys, indexing="ij")
+    free = (X - x0 >= clearance) & (x1 - X >= clearance) & (Y - y0 >= clearance) & (y1 - Y >= clearance)
+    for group in world.obstacles:
+        if isinstance(group.motion, RandomInRect):
+            lo, hi = _area(group.motion)
+            lo, hi = lo - group.half_size - clearance, hi + group.half_size + clearance
+            free &= ~((X >= lo[0]) & (X <= hi[0]) & (Y >= lo[1]) & (Y <= hi[1]))
+    (sx0, sx1), (sy0, sy1) = world.start.x_range, world.start.y_range
+    reached = free & (X >= sx0) & (X <= sx1) & (Y >= sy0) & (Y <= sy1)
+    assert reached.any(), "the start area itself is not clear"
+    while True:  # flood fill over 4-neighbours
+        grown = reached.copy()
+        grown[1:] |= reached[:-1]
+        grown[:-1] |= reached[1:]
+        grown[:, 1:] |= reached[:, :-1]
+        grown[:, :-1] |= reached[:, 1:]
+        grown &= free
+        if (grown == reached).all():
+            break
+        reached = grown
+    lo, hi = goal
+    return bool((reached & (X >= lo[0]) & (X <= hi[0]) & (Y >= lo[1]) & (Y <= hi[1])).any())
+
+
+@pytest.mark.parametrize("cls", [MotionAreasEnv, MotionAreasRouteEnv], ids=lambda c: c.__name__)
+def test_5_4ab_a_lane_clear_of_the_wandering_obstacles_reaches_every_target_area(cls):
+    # the robot's circumscribed radius plus 0.25 m to spare on each side: a lane >= 1.1 m wide
+    for target in cls.world.targets:
+        assert _free_path_exists(cls.world, _area(target), clearance=ROBOT_RADIUS + 0.25)
+    # and the check can fail: closing the lane (obstacle areas 0.5 m taller) cuts the targets off
+    import dataclasses
+
+    blocked = dataclasses.replace(cls.world, obstacles=tuple(
+        dataclasses.replace(o, motion=dataclasses.replace(o.motion, y_range=(o.motion.y_range[0] - 0.3, o.motion.y_range[1] + 0.3)))
+        if isinstance(o.motion, RandomInRect) else o for o in cls.world.obstacles))
+    assert not all(_free_path_exists(blocked, _area(t), clearance=ROBOT_RADIUS + 0.25) for t in cls.world.targets)
+
+
 def test_5_4b_regular_route_crosses_one_target_area():
     world = MotionAreasRouteEnv.world
     assert world.obstacles[:2] == MotionAreasEnv.world.obstacles and world.targets == MotionAreasEnv.world.targets

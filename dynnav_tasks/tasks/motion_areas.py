@@ -24,8 +24,10 @@ class MotionAreasEnv(NavEnv):
     * target areas (one target chosen per episode, starting at the area's centre, moving
       0.02-0.08 m per step): x in [2.5, 3.5] with y in [2.5, 3.5], and with y in [-1, 0]
     * obstacle areas (0.5 m boxes, 0.05-0.5 m per step, a new speed every step; the box's
-      centre stays in its area): x in [0.5, 1.5], y in [1.5, 3.0]; and x in [0.5, 1.8],
-      y in [-1.5, 0.5]
+      centre stays in its area): x in [0.5, 1.5], y in [1.7, 3.0]; and x in [0.5, 1.8],
+      y in [-1.5, -0.1]. Between the two a lane 1.3 m wide (y from 0.15 to 1.45 m) leads
+      from the start to both target areas out of the obstacles' reach: the obstacles move up
+      to 0.5 m per step, faster than the robot, so a route through their areas is a gamble
     * state (24): 16 lasers | robot x, y | target x, y | obstacle 1 x, y | obstacle 2 x, y
 
     **Randomizations:**
@@ -44,7 +46,7 @@ class MotionAreasEnv(NavEnv):
     world = World(
         targets=TARGET_AREAS,
         obstacles=(
-            Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(0.5, 1.5), y_range=(1.5, 3.0), speed_range=OBSTACLE_SPEED)),
-            Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(0.5, 1.8), y_range=(-1.5, 0.5), speed_range=OBSTACLE_SPEED)),
+            Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(0.5, 1.5), y_range=(1.7, 3.0), speed_range=OBSTACLE_SPEED)),
+            Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(0.5, 1.8), y_range=(-1.5, -0.1), speed_range=OBSTACLE_SPEED)),
         ),
     )
