@@ -33,6 +33,13 @@ THESIS = {
     "potential_gamma_0_9_5_3": dict(success="96%", converge="-", source="Tables 6.1, 6.2"),
     "potential_gamma_0_95_5_3": dict(success="94%", converge="-", source="Table 6.1"),
     "potential_gamma_1_0_5_3": dict(success="65%", converge="-", source="Table 6.1: turns in place"),
+    "camera_5_5a": dict(success="93%", converge="~1700", source="Sec. 6.3 Exp. 1, Fig. 6.15; 24 test steps"),
+    "laser_pos_5_5b": dict(success="92%", converge="~1500", source="Table 6.3, Fig. 6.18"),
+    "camera_pos_5_5b": dict(success="64%", converge="~1500", source="Table 6.3, Fig. 6.18"),
+    "laser_camera_pos_5_5b": dict(success="96%", converge="~1900", source="Table 6.3, Figs. 6.17-6.18"),
+    "frames_1_5_5c": dict(success="33%", converge="-", source="Table 6.4, Fig. 6.19"),
+    "frames_2_5_5c": dict(success="41%", converge="-", source="Table 6.4, Fig. 6.19"),
+    "frames_4_5_5c": dict(success="99%", converge="-", source="Table 6.4, Figs. 6.19, 6.22"),
 }
 
 # Runs made directly from the two original configs carry their ``name`` field, not the file's.
@@ -61,4 +68,9 @@ FIGURES = [
         ("moving_obstacles_5_3", "distance (4.3)"),
         ("rewards_5_3_distance_orientation_always", "orientation always (4.6)"),
         ("potential_gamma_0_9_5_3", "potential (4.9)")]),
+    ("fig6_18_sensors_5_5b", "Sensors on 5.5b (Fig. 6.18)", [
+        ("laser_pos_5_5b", "laser + positions"), ("camera_pos_5_5b", "camera + positions"),
+        ("laser_camera_pos_5_5b", "laser + camera + positions")]),
+    ("fig6_19_frames_5_5c", "Camera frames on 5.5c (Fig. 6.19)", [
+        ("frames_1_5_5c", "single frame"), ("frames_2_5_5c", "2 frames"), ("frames_4_5_5c", "4 frames")]),
 ]
