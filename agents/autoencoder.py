@@ -2,7 +2,7 @@
 (thesis Sec. 4.3, Figs. 4.3-4.4).
 
 Encoder: two 3x3 convolutions with stride 2 (32 -> 16 -> 8 pixels), a dense layer and the
-latent layer; the decoder mirrors it with transposed convolutions. ReLU everywhere but the
+latent layer; the decoder mirrors it with 3x3 transposed convolutions of stride 2. ReLU everywhere but the
 latent (linear) and the output (sigmoid, pixels in [0, 1]).
 
 =====================  ===============  =======================  ======
@@ -74,8 +74,8 @@ class ConvAutoEncoder(nn.Module):
             nn.Linear(spec.latent, spec.dense), nn.ReLU(),
             nn.Linear(spec.dense, flat), nn.ReLU(),
             nn.Unflatten(1, (c2, side, side)),
-            nn.ConvTranspose2d(c2, c1, 4, stride=2, padding=1), nn.ReLU(),
-            nn.ConvTranspose2d(c1, spec.in_channels, 4, stride=2, padding=1), nn.Sigmoid(),
+            nn.ConvTranspose2d(c2, c1, 3, stride=2, padding=1, output_padding=1), nn.ReLU(),
+            nn.ConvTranspose2d(c1, spec.in_channels, 3, stride=2, padding=1, output_padding=1), nn.Sigmoid(),
         )
 
     # ------------------------------------------------------------------ tensors
