@@ -83,9 +83,9 @@ def train(config: Config) -> Path:
     # --- run directory, environment, agent
     resumed = ckpt.load(config.resume) if config.resume else None
     env = make_env(config.task, config.reward_mode, config.reward_params, config.task_kwargs, config.camera_frames)
+    experience = make_experience(env, config)  # what the Q-network reads and the replay memory keeps
     run_dir = Path(config.resume) if config.resume else new_run_dir(config)
     save_yaml(config, run_dir / "config.yaml")  # a resumed run may have changed e.g. the episode count
-    experience = make_experience(env, config)  # what the Q-network reads and the replay memory keeps
     srl = experience.srl  # the camera's auto-encoder (None for state runs)
     obs_dim, n_actions = experience.dim, int(env.action_space.n)
     rng = np.random.default_rng(config.seed)

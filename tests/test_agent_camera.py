@@ -140,3 +140,15 @@ def test_recording_of_a_camera_checkpoint_shows_latent_and_reconstruction(camera
     latent_rows = sum(rb.num_rows for rb in data["/agent/latent"])
     image_rows = sum(rb.num_rows for rb in data["/agent/reconstruction"])
     assert latent_rows == image_rows > 0
+
+
+def test_camera_settings_errors_name_the_field(tmp_path):
+    with pytest.raises(ValueError, match="camera_state selects state parts"):
+        small(tmp_path, task="DynNav-VisualStaticTarget-v1", camera_state=("lasers",))
+    with pytest.raises(ValueError, match="camera_frames must not be negative"):
+        small(tmp_path, task="DynNav-VisualStaticTarget-v1", camera_frames=-1)
+    with pytest.raises(ValueError, match=r"unknown state part 'laser'; valid parts: lasers, robot_xy, target_xy"):
+        dqn.train(small(tmp_path, task="DynNav-VisualStaticTarget-v1", camera_frames=1, camera_state=("laser",)))
+    assert not (tmp_path / "runs").exists()  # no run directory for a run that never started
+    with pytest.raises(ValueError, match="apply to dynnav tasks only"):
+        dqn.train(small(tmp_path, task="CartPole-v1", camera_frames=1))
