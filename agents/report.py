@@ -1,6 +1,7 @@
 """RESULTS.md from sweeps or single runs: test results per experiment beside the study's.
 
-    python -m agents.report sweeps/laser [more sweep or run folders] --out RESULTS.md
+    python -m agents.report sweeps/laser [more sweep or run folders] --out RESULTS.md \
+        [--discussion docs/results/discussion.md]
 
 Runs are grouped by experiment (the sweep's experiment name, else the run's ``name``). Per
 experiment, over the seeds whose test phase has run:
@@ -160,7 +161,8 @@ def _pct(x) -> str:
     return "-" if x is None else f"{x:.0%}"
 
 
-def render(groups: dict[str, list[dict]], figures: list[tuple[str, str]], sources: list[str]) -> str:
+def render(groups: dict[str, list[dict]], figures: list[tuple[str, str]], sources: list[str],
+           discussion: str = "") -> str:
     order = [e for e in THESIS if e in groups] + sorted(e for e in groups if e not in THESIS)
     lines = ["# Results", "",
              "Test success (100 episodes per run in the study's configs, epsilon 0) per experiment, beside the study's number. "
@@ -168,8 +170,8 @@ def render(groups: dict[str, list[dict]], figures: list[tuple[str, str]], source
              "success is the mean over seeds with a 95% t-interval over the seeds' rates (Wilson interval of the "
              "episodes when there is one seed); steps are those of successful test episodes; *converge* is the "
              "first training episode at which the 100-episode success rate reaches 90% of its final value; "
-             "wall-clock is training plus test per run on one core (sum of episode times, checkpoints not counted). "
-             "The study's camera experiments (Sec. 5.2.3) are not covered yet.", "",
+             "wall-clock is training plus test per run on one core (sum of episode times, checkpoints and "
+             "auto-encoder updates not counted).", "",
              "| experiment | task | seeds | success (95% CI) | study | steps | converge (episodes) | study | "
              "wall-clock | per seed |",
              "|---|---|---|---|---|---|---|---|---|---|"]
@@ -195,10 +197,16 @@ def render(groups: dict[str, list[dict]], figures: list[tuple[str, str]], source
     if any(e in THESIS for e in order):
         lines += ["", "Where the study's numbers come from (`agents/thesis_results.py`):", ""]
         lines += [f"* `{e}`: {THESIS[e]['source']}" for e in order if e in THESIS]
+    missing = [e for e in THESIS if e not in groups]
+    if missing:
+        lines += ["", "Experiments of the study with a config but no run in these folders yet: "
+                  + ", ".join(f"`{e}`" for e in missing) + "."]
     if unfinished:
         lines += ["", "## Runs still in progress", "", "Left out of the table above; `python -m agents.sweep` "
                   "with the same arguments continues them from their checkpoints.", ""]
         lines += [f"* `{r['experiment']}` seed {r['seed']}: {r['trained']} of {r['planned']} episodes" for r in unfinished]
+    if discussion.strip():
+        lines += ["", discussion.strip()]
     if figures:
         lines += ["", "## Learning curves", ""]
         for rel, title in figures:
@@ -206,8 +214,15 @@ def render(groups: dict[str, list[dict]], figures: list[tuple[str, str]], source
     return "\n".join(lines) + "\n"
 
 
-def write_report(paths: list[str | Path], out: str | Path = "RESULTS.md", figures_dir: str | Path | None = None) -> Path:
+def write_report(paths: list[str | Path], out: str | Path = "RESULTS.md", figures_dir: str | Path | None = None,
+                 discussion: str | Path | None = None) -> Path:
+    """Write the report; ``discussion``: a Markdown file inserted after the table (written by hand)."""
     out = Path(out)
+    text = ""
+    if discussion is not None:
+        if not Path(discussion).is_file():
+            raise ValueError(f"discussion file {str(discussion)!r} does not exist")
+        text = Path(discussion).read_text()
     figures_dir = Path(figures_dir) if figures_dir else out.parent / "docs" / "results"
     groups: dict[str, list[dict]] = {}
     for run_dir in find_runs(paths):
@@ -222,7 +237,7 @@ def write_report(paths: list[str | Path], out: str | Path = "RESULTS.md", figure
             path = figures_dir / f"{stem}.png"
             draw_figure(path, title, present)
             written.append((os.path.relpath(path.resolve(), out.parent.resolve()), title))
-    atomic_write_bytes(out, render(groups, written, [str(p) for p in paths]).encode())
+    atomic_write_bytes(out, render(groups, written, [str(p) for p in paths], text).encode())
     return out
 
 
@@ -231,9 +246,11 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("paths", nargs="+", help="sweep folders or run directories")
     parser.add_argument("--out", default="RESULTS.md", help="report file (default RESULTS.md)")
     parser.add_argument("--figures", default=None, help="folder for the PNGs (default docs/results next to --out)")
+    parser.add_argument("--discussion", default=None,
+                        help="Markdown file inserted after the table: why results differ from the study's")
     args = parser.parse_args(argv)
     try:
-        out = write_report(args.paths, args.out, args.figures)
+        out = write_report(args.paths, args.out, args.figures, args.discussion)
     except ValueError as err:
         raise SystemExit(f"error: {err}")
     print(f"wrote {out}")

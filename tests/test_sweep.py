@@ -63,8 +63,14 @@ def test_sweep_runs_every_experiment_and_the_report_shows_them(sweep, tmp_path):
         assert result["trained_episodes"] == 4 and result["summary"]["episodes"] == 3
         assert f"distance_gamma: {gamma}" in (run_dir / "config.yaml").read_text()
         assert len((run_dir / "metrics.csv").read_text().splitlines()) == 1 + 4
-    report = write_report([out], tmp_path / "RESULTS.md")
+    discussion = tmp_path / "discussion.md"
+    discussion.write_text("## Discussion\n\nWhy the numbers differ.\n")
+    report = write_report([out], tmp_path / "RESULTS.md", discussion=discussion)
     text = report.read_text()
+    assert "## Discussion\n\nWhy the numbers differ." in text
+    assert "no run in these folders yet: `moving_target_5_2`" in text  # the study's other experiments
+    with pytest.raises(ValueError, match="discussion file .* does not exist"):
+        write_report([out], tmp_path / "R2.md", discussion=tmp_path / "missing.md")
     for name in (A, B):
         row = next(line for line in text.splitlines() if line.startswith(f"| `{name}`"))
         rate = json.loads((_run_dir(out, name) / "eval.json").read_text())["summary"]["success_rate"]
