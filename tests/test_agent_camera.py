@@ -86,7 +86,9 @@ def test_encoder_is_frozen_between_updates(camera_run):
 def test_replayed_latents_come_from_the_current_encoder(camera_run):
     _, _, _, srl, memory = camera_run
     n = memory.size
-    np.testing.assert_allclose(memory.latents[:n], srl.encode(memory.frames[:n]), rtol=1e-4, atol=1e-4)
+    # frames encoded one at a time while acting and in batches after an update differ in float
+    # rounding only (about 1e-4 after standardising); a stale encoder's latents differ by O(1)
+    np.testing.assert_allclose(memory.latents[:n], srl.encode(memory.frames[:n]), rtol=0, atol=3e-3)
 
 
 def test_checkpoint_restores_the_auto_encoder_with_the_q_network(camera_run):
