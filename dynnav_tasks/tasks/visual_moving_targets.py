@@ -17,7 +17,8 @@ class VisualMovingTargetsEnv(NavEnv):
     * target areas (one chosen per episode, starting at (3.3, 3.2) or (3.3, -0.6), moving
       0.05-0.1 m per step): x in [2.8, 3.8] with y in [2.6, 3.8], and with y in [-1.2, 0.0]
     * obstacle areas (0.5 m boxes, 0.05-0.5 m per step): x in [0.6, 2.0] with y in
-      [1.6, 3.4], and with y in [-1.5, 0.6]
+      [1.8, 3.4], and with y in [-1.5, 0.0]; between them a lane 1.3 m wide (y from 0.25
+      to 1.55 m) leads from the start to both target areas out of the obstacles' reach
     * state (24): 16 lasers | robot x, y | target x, y | obstacle 1 x, y | obstacle 2 x, y
 
     **Randomizations:**
@@ -40,7 +41,7 @@ class VisualMovingTargetsEnv(NavEnv):
             RandomInRect(x_range=(2.8, 3.8), y_range=(-1.2, 0.0), speed_range=(0.05, 0.1), start=(3.3, -0.6)),
         ),
         obstacles=(
-            Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(0.6, 2.0), y_range=(1.6, 3.4))),
-            Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(0.6, 2.0), y_range=(-1.5, 0.6))),
+            Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(0.6, 2.0), y_range=(1.8, 3.4))),
+            Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(0.6, 2.0), y_range=(-1.5, 0.0))),
         ),
     )

@@ -16,8 +16,10 @@ class VisualTargetsEnv(NavEnv):
     * arena: x and y in [-2, 4.5] m, walls 0.5 m high, coloured by side
     * targets (one chosen per episode): (3.4, 3.0), (3.2, -0.5), (-0.5, 3.5)
     * random obstacles (0.5 m boxes, 0.05-0.5 m per step): x in [0.5, 1.8], y in [1.8, 3.2];
-      and x in [1.2, 2.2], y in [-1.2, 0.4]
-    * regular obstacle: along x = 2.5 between y = 1.0 and 3.4 at 0.1 m per step
+      and x in [1.2, 2.2], y in [-1.2, 0.0]; between them a lane 1.3 m wide (y from 0.25 to
+      1.55 m) leads east, out of their reach
+    * regular obstacle: along x = 2.5 between y = 1.6 and 3.4 at 0.1 m per step, clear of
+      the lane's east end
     * state (26): 16 lasers | robot x, y | target x, y | obstacles 1-3 x, y
       (the thesis's 34 = latent 10 + 24; ours is latent + 26 because the target's position
       is part of the state)
@@ -40,7 +42,7 @@ class VisualTargetsEnv(NavEnv):
         targets=(Static((3.4, 3.0)), Static((3.2, -0.5)), Static((-0.5, 3.5))),
         obstacles=(
             Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(0.5, 1.8), y_range=(1.8, 3.2))),
-            Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(1.2, 2.2), y_range=(-1.2, 0.4))),
-            Obstacles(half_size=(0.25, 0.25), motion=BackAndForth(center=(2.5, 2.2), direction=(0, 1), amplitude=1.2, speed=0.1)),
+            Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(1.2, 2.2), y_range=(-1.2, 0.0))),
+            Obstacles(half_size=(0.25, 0.25), motion=BackAndForth(center=(2.5, 2.5), direction=(0, 1), amplitude=0.9, speed=0.1)),
         ),
     )
