@@ -36,6 +36,20 @@ def check_task(task: str) -> None:
     raise ValueError(f"Unknown task id {task!r}.{hint} dynnav tasks: {', '.join(dynnav_ids())}.")
 
 
+def frame_key(camera_frames: int) -> str:
+    """The observation key of the camera frames: "rgb" for one frame, "gray" for a stack."""
+    return "rgb" if camera_frames == 1 else "gray"
+
+
+def state_slices(layout: list[tuple[str, int]]) -> dict[str, slice]:
+    """Where each named part of a dynnav state vector (``state_layout()``) sits."""
+    out, offset = {}, 0
+    for name, size in layout:
+        out[name] = slice(offset, offset + size)
+        offset += size
+    return out
+
+
 def make_env(task: str, reward_mode: str | None = None, reward_params: dict | None = None,
              task_kwargs: dict | None = None, camera_frames: int = 0) -> gym.Env:
     """The environment for ``task`` with the plain gymnasium API (numpy in, numpy out).

@@ -30,7 +30,7 @@ import numpy as np
 
 from . import checkpoint as ckpt
 from .config import config_from_dict
-from .envs import ObsScaler, is_dynnav, make_env
+from .envs import ObsScaler, is_dynnav, make_env, state_slices
 from .qnetwork import MLP
 from .threads import limit_threads
 
@@ -57,15 +57,6 @@ def outcome_of(info: dict, terminated: bool) -> str:
     return "terminated" if terminated else "timeout"
 
 
-def _slices(env) -> dict[str, slice]:
-    """Where robot_xy and target_xy sit in a dynnav state vector."""
-    out, offset = {}, 0
-    for name, size in env.unwrapped.state_layout():
-        out[name] = slice(offset, offset + size)
-        offset += size
-    return out
-
-
 def state_of(obs):
     """The state vector of an observation (camera runs observe ``{"rgb" or "gray": ..., "state": ...}``)."""
     return obs["state"] if isinstance(obs, dict) else obs
@@ -80,7 +71,7 @@ def run_episodes(net: MLP, env, episodes: int, seed: int, dynnav: bool, scale=No
     Q-values; ``latents``, for camera runs, receives (latent, target index, reward) per step.
     """
     scale = scale or (lambda obs: obs)
-    parts = _slices(env) if dynnav else {}
+    parts = state_slices(env.unwrapped.state_layout()) if dynnav else {}
     reach = float(getattr(env.unwrapped, "reach_radius", 0.0))
     records = []
     for i in range(episodes):
@@ -216,11 +207,9 @@ def policy_from_state(config, state: dict, **task_kwargs):
     net.flat[:] = state["learner"]["q"]
     if not config.camera_frames:
         return env, net, ObsScaler(env.observation_space, config.normalize_obs)
-    from .experience import CameraFeatures
-    from .state_representation import SRLSettings, StateRepresentation
+    from .experience import CameraFeatures, new_state_representation
 
-    image = env.observation_space["rgb" if config.camera_frames == 1 else "gray"].shape[0]
-    srl = StateRepresentation(SRLSettings.from_config(config, image_size=image), seed=config.seed)
+    srl = new_state_representation(env, config)
     srl.load_state_dict(state["srl"])
     return env, net, CameraFeatures(env, config, srl)
 

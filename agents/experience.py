@@ -6,7 +6,6 @@ transitions, behind the same calls the training loop makes (``memory`` is what a
     x = experience.begin(obs)                                   # an episode's first observation
     x = experience.step(action, reward, next_obs, terminated)   # store a transition, next input
     experience.sample_into(learner.batch, rng)                  # a minibatch for one update
-    experience.features(obs)                                    # an input without storing (tests)
 
 * ``VectorExperience``: the task's state vector (lasers, positions), scaled to [-1, 1].
 * ``CameraExperience`` (thesis Sec. 5.2.3): the auto-encoder's latent of the camera frame (one
@@ -21,10 +20,10 @@ from typing import Optional
 
 import numpy as np
 
-from .envs import ObsScaler
+from .envs import ObsScaler, frame_key, state_slices
 from .frame_replay import FrameReplay
 from .replay import ReplayMemory
-from .state_representation import StateRepresentation
+from .state_representation import SRLSettings, StateRepresentation
 
 
 def state_part_indices(layout: list[tuple[str, int]], names) -> np.ndarray:
@@ -32,10 +31,7 @@ def state_part_indices(layout: list[tuple[str, int]], names) -> np.ndarray:
 
     Names are those of ``state_layout()`` (lasers, robot_xy, target_xy, obstacle0_xy, ...);
     ``obstacles`` selects every obstacle's position."""
-    starts, offset = {}, 0
-    for name, size in layout:
-        starts[name] = range(offset, offset + size)
-        offset += size
+    starts = state_slices(layout)
     wanted = set()
     for name in names:
         matches = [n for n in starts if n == name or (name == "obstacles" and n.startswith("obstacle"))]
@@ -43,7 +39,8 @@ def state_part_indices(layout: list[tuple[str, int]], names) -> np.ndarray:
             valid = ", ".join(list(starts) + ["obstacles"])
             raise ValueError(f"camera_state: unknown state part {name!r}; valid parts: {valid}")
         wanted.update(matches)
-    return np.array([i for n in starts if n in wanted for i in starts[n]], dtype=np.int64)
+    return np.array([i for n, part in starts.items() if n in wanted for i in range(part.start, part.stop)],
+                    dtype=np.int64)
 
 
 class VectorExperience:
@@ -59,9 +56,6 @@ class VectorExperience:
         self.dim = int(env.observation_space.shape[0])
         self.memory = ReplayMemory(config.buffer_size, self.dim)
         self._x = None
-
-    def features(self, obs) -> np.ndarray:
-        return self.scale(obs)
 
     def begin(self, obs) -> np.ndarray:
         self._x = self.scale(obs)
@@ -85,7 +79,7 @@ class CameraFeatures:
 
     def __init__(self, env, config, srl: StateRepresentation):
         self.srl = srl
-        self.frame_key = "rgb" if config.camera_frames == 1 else "gray"
+        self.frame_key = frame_key(config.camera_frames)
         space = env.observation_space["state"]
         self.parts = state_part_indices(env.unwrapped.state_layout(), config.camera_state)
         scaler = ObsScaler(space, config.normalize_obs)
@@ -131,9 +125,6 @@ class CameraExperience:
     def ready(self) -> bool:
         return self.srl.trained
 
-    def features(self, obs) -> np.ndarray:
-        return self.encoder_features(obs)
-
     def _input(self, slot: int) -> Optional[np.ndarray]:
         if not self.srl.trained:
             return None
@@ -156,12 +147,14 @@ class CameraExperience:
         return len(self.memory)
 
 
+def new_state_representation(env, config) -> StateRepresentation:
+    """An untrained auto-encoder sized for ``env``'s camera frames and ``config``'s settings."""
+    image = env.observation_space[frame_key(config.camera_frames)].shape[0]
+    return StateRepresentation(SRLSettings.from_config(config, image_size=image), seed=config.seed)
+
+
 def make_experience(env, config):
     """The experience of a run: ``CameraExperience`` when ``config.camera_frames`` > 0."""
     if not config.camera_frames:
         return VectorExperience(env, config)
-    from .state_representation import SRLSettings
-
-    image = env.observation_space["rgb" if config.camera_frames == 1 else "gray"].shape[0]
-    srl = StateRepresentation(SRLSettings.from_config(config, image_size=image), seed=config.seed)
-    return CameraExperience(env, config, srl)
+    return CameraExperience(env, config, new_state_representation(env, config))

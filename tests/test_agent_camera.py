@@ -13,6 +13,7 @@ import torch
 import agents.dqn as dqn
 from agents import checkpoint as ckpt
 from agents.config import Config
+from agents.envs import frame_key
 from agents.evaluate import evaluate, load_policy
 from agents.state_representation import SRLSettings
 
@@ -102,7 +103,7 @@ def test_checkpoint_restores_the_auto_encoder_with_the_q_network(camera_run):
     x = features(obs)
     settings = SRLSettings.from_config(config)
     assert x.shape == (settings.spec.latent + (16 if config.camera_state else 0),)
-    frame = obs["rgb" if config.camera_frames == 1 else "gray"]
+    frame = obs[frame_key(config.camera_frames)]
     np.testing.assert_allclose(x[: settings.spec.latent], srl.encode(frame), rtol=1e-5, atol=1e-5)
     assert net(x).shape == (3,)
     env.close()
