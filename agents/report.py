@@ -178,7 +178,7 @@ def render(groups: dict[str, list[dict]], figures: list[tuple[str, str]], source
     unfinished = []
     for e in order:
         s = summarize(groups[e])
-        t = THESIS.get(e, {})
+        t = THESIS.get(e, dict(success="not in the study", converge="-"))
         unfinished += s["unfinished"]
         task = groups[e][0]["task"]
         if not s["seeds"]:

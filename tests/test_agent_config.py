@@ -25,7 +25,7 @@ def test_thesis_configs_hold_the_thesis_settings():
         "DynNav-MovingObstacles-v1", 4000, 0.001, 2000, "distance")
     for c in (c52, c53):
         assert (c.gamma, c.batch_size, c.hidden_sizes, c.epsilon_start, c.epsilon_end) == (0.97, 128, (128, 128), 0.8, 0.05)
-    for path in CONFIGS.glob("*.yaml"):
+    for path in CONFIGS.rglob("*.yaml"):
         load_yaml(path).validate()
 
 
