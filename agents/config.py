@@ -145,6 +145,11 @@ class Config:
     """test episodes (epsilon 0)"""
     eval_seed: int = 1_000_000
     """test episode i is reset with seed eval_seed + i (training episodes use other seeds)"""
+    eval_epsilon: float = 0.0
+    """probability of a random action in a test step (0: greedy, as the study tests; a small value
+    such as 0.05 shows whether a greedy policy is caught in a loop that random actions break)"""
+    eval_out: Optional[str] = None
+    """folder for eval.json, eval.md and the pictures of --eval (default: beside the checkpoint)"""
     eval_picture: bool = True
     """draw the test trajectories on the task's top-down picture (dynnav tasks)"""
 
@@ -173,6 +178,7 @@ class Config:
             "learning_rate": self.learning_rate > 0,
             "learning_rate_end": self.learning_rate_end > 0,
             "epsilon_start": 0.0 <= self.epsilon_start <= 1.0,
+            "eval_epsilon": 0.0 <= self.eval_epsilon <= 1.0,
             "epsilon_end": 0.0 <= self.epsilon_end <= 1.0,
             "max_grad_norm": self.max_grad_norm >= 0,
             "hidden_sizes": len(self.hidden_sizes) > 0 and all(h > 0 for h in self.hidden_sizes),

@@ -245,7 +245,8 @@ def main(argv: list[str] | None = None) -> None:
     try:
         if config.eval:
             evaluate(config.checkpoint, episodes=config.eval_episodes, seed=config.eval_seed,
-                     picture=config.eval_picture, rerun=config.rerun)
+                     picture=config.eval_picture, rerun=config.rerun, epsilon=config.eval_epsilon,
+                     out_dir=config.eval_out)
             return
         run_dir = train(config)
         if config.eval_after_training:

@@ -63,8 +63,11 @@ def state_of(obs):
 
 
 def run_episodes(net: MLP, env, episodes: int, seed: int, dynnav: bool, scale=None, recorder=None,
-                 latents: list | None = None) -> list[dict]:
+                 latents: list | None = None, epsilon: float = 0.0) -> list[dict]:
     """Greedy rollouts of ``net`` on seeds seed, seed + 1, ...; one record per episode.
+
+    With ``epsilon`` > 0 a step's action is random with that probability, drawn from a generator
+    seeded with the episode's seed, so such a test replays exactly too.
 
     ``scale`` maps the env's observation to the network's input (the ObsScaler or CameraFeatures
     used in training); ``recorder`` (a dynnav_tasks.recording.Recorder) logs every step with its
@@ -76,6 +79,7 @@ def run_episodes(net: MLP, env, episodes: int, seed: int, dynnav: bool, scale=No
     records = []
     for i in range(episodes):
         obs, _ = env.reset(seed=seed + i)
+        rng = np.random.default_rng(seed + i)
         path, ret, steps = [], 0.0, 0
         if dynnav:
             start, target = state_of(obs)[parts["robot_xy"]].copy(), state_of(obs)[parts["target_xy"]].copy()
@@ -86,6 +90,8 @@ def run_episodes(net: MLP, env, episodes: int, seed: int, dynnav: bool, scale=No
             q_values = net(scale(obs))
             latent = getattr(scale, "last_latent", None)
             action = int(np.argmax(q_values))
+            if epsilon > 0 and rng.random() < epsilon:
+                action = int(rng.integers(len(q_values)))
             obs, reward, terminated, truncated, info = env.step(action)
             if recorder is not None:
                 views = scale.views(obs) if hasattr(scale, "views") else {}
@@ -114,13 +120,14 @@ def run_episodes(net: MLP, env, episodes: int, seed: int, dynnav: bool, scale=No
     return records
 
 
-def summarize(records: list[dict]) -> dict:
+def summarize(records: list[dict], epsilon: float = 0.0) -> dict:
     n = len(records)
     count = {k: sum(r["outcome"] == k for r in records) for k in ("success", "collision", "timeout", "terminated")}
     lo, hi = wilson_interval(count["success"], n)
     steps = [r["steps"] for r in records if r["outcome"] == "success"]
     summary = dict(
         episodes=n,
+        epsilon=epsilon,
         success_rate=count["success"] / n,
         success_ci95=[round(lo, 4), round(hi, 4)],
         collision_rate=count["collision"] / n,
@@ -139,7 +146,7 @@ def markdown_table(task: str, summary: dict) -> str:
     avg = summary["avg_steps_success"]
     rows = [
         ("task", task),
-        ("test episodes (epsilon 0)", summary["episodes"]),
+        (f"test episodes (epsilon {summary.get('epsilon', 0.0):g})", summary["episodes"]),
         ("success rate", f"{summary['success_rate']:.0%} (95% CI {lo:.0%}-{hi:.0%})"),
         ("collision rate", f"{summary['collision_rate']:.0%}"),
         ("timeout rate", f"{summary['timeout_rate']:.0%}"),
@@ -215,8 +222,11 @@ def policy_from_state(config, state: dict, **task_kwargs):
 
 
 def evaluate(checkpoint_path, episodes: int = 100, seed: int = 1_000_000, picture: bool = True,
-             out_dir: str | Path | None = None, verbose: bool = True, rerun: str | Path | None = None) -> dict:
+             out_dir: str | Path | None = None, verbose: bool = True, rerun: str | Path | None = None,
+             epsilon: float = 0.0) -> dict:
     """Test the checkpoint's Q-network; write eval.json / eval.md (/ trajectories.png); return the summary.
+
+    ``epsilon``: probability of a random action per step (0, greedy, is the test; see run_episodes).
 
     ``rerun``: also write every test episode to this Rerun recording (dynnav tasks)."""
     limit_threads(1)
@@ -228,9 +238,10 @@ def evaluate(checkpoint_path, episodes: int = 100, seed: int = 1_000_000, pictur
     recorder = open_recorder(rerun, config.task)  # checks the recording path before any work
     env, net, scale = policy_from_state(config, state)
     out_dir = Path(out_dir) if out_dir is not None else path.parent
+    out_dir.mkdir(parents=True, exist_ok=True)
     dynnav = is_dynnav(config.task)
     latents = [] if config.camera_frames else None
-    records = run_episodes(net, env, episodes, seed, dynnav, scale, recorder, latents)
+    records = run_episodes(net, env, episodes, seed, dynnav, scale, recorder, latents, epsilon)
     if recorder is not None:
         recorder.close()
     if latents:
@@ -239,7 +250,7 @@ def evaluate(checkpoint_path, episodes: int = 100, seed: int = 1_000_000, pictur
         z, targets, rewards = (np.array(v) for v in zip(*latents))
         np.savez_compressed(out_dir / "latents.npz", latents=z, targets=targets, rewards=rewards)
         plot_latents(z, targets, rewards, out_dir, title=config.task)
-    summary = summarize(records)
+    summary = summarize(records, epsilon)
     result = dict(task=config.task, checkpoint=str(path), trained_episodes=state["episode"], eval_seed=seed,
                   summary=summary, episodes=records)
     table = markdown_table(config.task, summary)

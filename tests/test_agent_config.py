@@ -57,6 +57,8 @@ def test_wrong_type_in_yaml_names_the_field(tmp_path, text, field):
 def test_impossible_values_and_bad_files_are_clear_errors(tmp_path):
     with pytest.raises(ValueError, match="gamma"):
         parse_args(["--gamma", "1.5"])
+    with pytest.raises(ValueError, match="eval_epsilon"):
+        parse_args(["--eval-epsilon", "1.5"])
     with pytest.raises(ValueError, match="batch_size"):
         parse_args(["--batch-size", "0"])
     with pytest.raises(ValueError, match="--checkpoint"):

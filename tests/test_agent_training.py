@@ -127,6 +127,14 @@ def test_test_phase_reports_and_writes_results(tmp_path):
     assert "success rate" in (run / "eval.md").read_text()
     again = evaluate(run, episodes=5, picture=False, verbose=False)  # run directory works too
     assert again == summary
+    # epsilon > 0: random actions drawn from the episode's seed, results in their own folder
+    out = tmp_path / "eps"
+    noisy = [evaluate(run, episodes=5, picture=False, verbose=False, epsilon=1.0, out_dir=out) for _ in range(2)]
+    assert noisy[0] == noisy[1] and noisy[0]["epsilon"] == 1.0
+    assert json.loads((run / "eval.json").read_text())["summary"] == summary  # the greedy test is kept
+    random_paths = [e["trajectory"] for e in json.loads((out / "eval.json").read_text())["episodes"]]
+    assert random_paths != [e["trajectory"] for e in result["episodes"]]
+    assert "epsilon 1" in (out / "eval.md").read_text()
 
 
 class Corridor(gym.Env):
