@@ -142,7 +142,7 @@ class Config:
     eval_after_training: bool = True
     """run the test phase when training ends"""
     eval_episodes: int = 100
-    """test episodes (epsilon 0)"""
+    """test episodes (greedy unless eval_epsilon > 0)"""
     eval_seed: int = 1_000_000
     """test episode i is reset with seed eval_seed + i (training episodes use other seeds)"""
     eval_epsilon: float = 0.0
@@ -178,8 +178,8 @@ class Config:
             "learning_rate": self.learning_rate > 0,
             "learning_rate_end": self.learning_rate_end > 0,
             "epsilon_start": 0.0 <= self.epsilon_start <= 1.0,
-            "eval_epsilon": 0.0 <= self.eval_epsilon <= 1.0,
             "epsilon_end": 0.0 <= self.epsilon_end <= 1.0,
+            "eval_epsilon": 0.0 <= self.eval_epsilon <= 1.0,
             "max_grad_norm": self.max_grad_norm >= 0,
             "hidden_sizes": len(self.hidden_sizes) > 0 and all(h > 0 for h in self.hidden_sizes),
             "ae_learning_rate": self.ae_learning_rate > 0,

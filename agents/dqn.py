@@ -240,18 +240,15 @@ def main(argv: list[str] | None = None) -> None:
         config = parse_args(argv)
     except ValueError as err:
         raise SystemExit(f"error: {err}")
-    from .evaluate import evaluate
+    from .evaluate import evaluate_as_configured
 
     try:
         if config.eval:
-            evaluate(config.checkpoint, episodes=config.eval_episodes, seed=config.eval_seed,
-                     picture=config.eval_picture, rerun=config.rerun, epsilon=config.eval_epsilon,
-                     out_dir=config.eval_out)
+            evaluate_as_configured(config, config.checkpoint, rerun=config.rerun, out_dir=config.eval_out)
             return
         run_dir = train(config)
         if config.eval_after_training:
-            evaluate(run_dir / ckpt.FILENAME, episodes=config.eval_episodes, seed=config.eval_seed,
-                     picture=config.eval_picture, verbose=True)
+            evaluate_as_configured(config, run_dir / ckpt.FILENAME)
         print(f"\nrun directory: {run_dir}")
         pictures = [p.name for p in sorted(run_dir.glob("*.png"))]
         print(f"  config.yaml, metrics.csv, checkpoint.pkl; pictures: {', '.join(pictures)}")

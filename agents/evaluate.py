@@ -221,6 +221,13 @@ def policy_from_state(config, state: dict, **task_kwargs):
     return env, net, CameraFeatures(env, config, srl)
 
 
+def evaluate_as_configured(config, checkpoint_path, **kwargs) -> dict:
+    """``evaluate`` with the test settings of a run's ``config`` (eval_episodes, eval_seed,
+    eval_picture, eval_epsilon); ``kwargs`` go to ``evaluate`` (out_dir, verbose, rerun)."""
+    return evaluate(checkpoint_path, episodes=config.eval_episodes, seed=config.eval_seed,
+                    picture=config.eval_picture, epsilon=config.eval_epsilon, **kwargs)
+
+
 def evaluate(checkpoint_path, episodes: int = 100, seed: int = 1_000_000, picture: bool = True,
              out_dir: str | Path | None = None, verbose: bool = True, rerun: str | Path | None = None,
              epsilon: float = 0.0) -> dict:

@@ -81,7 +81,7 @@ def execute(spec: RunSpec) -> dict:
     """Train (or continue) and test one run; return its record for the summary."""
     from .checkpoint import load
     from .dqn import train
-    from .evaluate import evaluate
+    from .evaluate import evaluate_as_configured
     from .threads import limit_threads
 
     limit_threads(1)
@@ -98,8 +98,7 @@ def execute(spec: RunSpec) -> dict:
     t0 = time.perf_counter()
     run_dir = train(config)
     t1 = time.perf_counter()
-    evaluate(run_dir / FILENAME, episodes=config.eval_episodes, seed=config.eval_seed,
-             picture=config.eval_picture, verbose=False)
+    evaluate_as_configured(config, run_dir / FILENAME, verbose=False)
     t2 = time.perf_counter()
     info = dict(experiment=spec.experiment, config=spec.config_path, seed=spec.seed, resumed_at_episode=resumed_at,
                 train_s_last_attempt=round(t1 - t0, 2), eval_s=round(t2 - t1, 2), host=os.uname().nodename)
