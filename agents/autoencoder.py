@@ -19,6 +19,12 @@ layer small (8x8x64 = 4096 inputs). Frames are uint8 (H, W, C) as the tasks retu
 
 Reconstruction loss (Eq. 4.10): the squared error summed over an image's pixels and
 channels, averaged over the N images of the batch, pixels scaled to [0, 1].
+
+Beyond the study, ``RareColourWeights`` weights each pixel's squared error by how rare its
+colour is in the observation memory. The red target disc covers about 0.06% of the pixels of
+world 5.5b's frames; with every pixel weighted the same the auto-encoder leaves it out of its
+reconstructions (as the thesis's Fig. 6.12 shows), and the latent cannot say whether the
+target is in view.
 """
 
 from __future__ import annotations
@@ -108,9 +114,59 @@ class ConvAutoEncoder(nn.Module):
         return out[0] if np.asarray(frames).ndim == 3 else out
 
 
-def reconstruction_loss(reconstruction: torch.Tensor, target: torch.Tensor) -> torch.Tensor:
-    """Eq. 4.10: per-image sum of squared errors, averaged over the batch."""
-    return (reconstruction - target).pow(2).flatten(1).sum(dim=1).mean()
+def reconstruction_loss(reconstruction: torch.Tensor, target: torch.Tensor,
+                        weights: torch.Tensor | None = None) -> torch.Tensor:
+    """Eq. 4.10: per-image sum of squared errors, averaged over the batch.
+
+    ``weights`` (broadcastable to the images, e.g. (B, 1, H, W)) multiplies each squared error."""
+    err = (reconstruction - target).pow(2)
+    if weights is not None:
+        err = err * weights
+    return err.flatten(1).sum(dim=1).mean()
+
+
+class RareColourWeights:
+    """Per-pixel loss weights (frequency of the pixel's colour)^-power, normalised to a mean of 1.
+
+    Colours are binned at ``levels`` levels per channel. For RGB frames a pixel's bin is its
+    (r, g, b) triple, and one weight covers its three channels; for stacks of gray frames
+    every value is binned on its own. ``fit`` counts the bins over a sample of frames
+    (uint8, (B, H, W, C)); a bin not seen there gets the largest weight of those seen.
+    power 0 gives every pixel weight 1 (Eq. 4.10); 1 gives every colour the same total weight.
+    """
+
+    def __init__(self, power: float, levels: int = 16):
+        if power < 0:
+            raise ValueError(f"power must not be negative, got {power}")
+        if not 2 <= levels <= 256 or 256 % levels:
+            raise ValueError(f"levels must divide 256 and be at least 2, got {levels}")
+        self.power, self.levels = float(power), levels
+        self.table: np.ndarray | None = None
+
+    def _bins(self, frames: np.ndarray) -> np.ndarray:
+        q = np.asarray(frames, dtype=np.int64) // (256 // self.levels)
+        if q.shape[-1] == 3:
+            return (q[..., 0] * self.levels + q[..., 1]) * self.levels + q[..., 2]  # (B, H, W)
+        return q  # (B, H, W, C): each gray value on its own
+
+    def fit(self, frames: np.ndarray) -> "RareColourWeights":
+        bins = self._bins(frames)
+        size = self.levels ** 3 if np.asarray(frames).shape[-1] == 3 else self.levels
+        freq = np.bincount(bins.ravel(), minlength=size) / bins.size
+        seen = freq > 0
+        w = np.zeros(size)
+        w[seen] = freq[seen] ** -self.power
+        w /= (freq * w).sum()
+        w[~seen] = w[seen].max()
+        self.table = w.astype(np.float32)
+        return self
+
+    def __call__(self, frames: np.ndarray) -> torch.Tensor:
+        """Weights shaped for ``reconstruction_loss``: (B, 1, H, W) for RGB, (B, C, H, W) for stacks."""
+        if self.table is None:
+            raise RuntimeError("RareColourWeights.fit must run before the weights are used")
+        w = torch.from_numpy(self.table[self._bins(frames)])
+        return w.unsqueeze(1) if w.ndim == 3 else w.permute(0, 3, 1, 2)
 
 
 class AutoEncoderTrainer:
@@ -120,11 +176,11 @@ class AutoEncoderTrainer:
         self.model = model
         self.optimizer = torch.optim.Adam(model.parameters(), lr=lr)
 
-    def train_batch(self, frames: np.ndarray) -> float:
+    def train_batch(self, frames: np.ndarray, weights: RareColourWeights | None = None) -> float:
         self.model.train()
         x = self.model.to_input(frames)
         _, y = self.model(x)
-        loss = reconstruction_loss(y, x)
+        loss = reconstruction_loss(y, x, None if weights is None else weights(frames))
         self.optimizer.zero_grad(set_to_none=True)
         loss.backward()
         self.optimizer.step()

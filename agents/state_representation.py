@@ -11,6 +11,11 @@ Algorithm 2 schedule.
 * Between updates the encoder is frozen; the Q-network reads its latent (optionally beside
   parts of the task's state vector, Table 5.4) and trains at every step.
 
+With ``ae_rare_colour_power`` p > 0 (beyond the study) each update first counts the colours
+of a sample of the memory's frames and weights every pixel's squared error by its colour's
+frequency^-p (``RareColourWeights``), so the small red target is reconstructed; the losses
+in ``srl_loss.csv`` are then the weighted ones.
+
 Latents are standardised per dimension with the mean and standard deviation over the
 memory's frames, measured after each update, so the Q-network's inputs keep a scale of about
 one whatever the encoder learned (the thesis fed raw latents; the scale is not given). After
@@ -26,11 +31,12 @@ from dataclasses import dataclass
 import numpy as np
 import torch
 
-from .autoencoder import AutoEncoderSpec, AutoEncoderTrainer, ConvAutoEncoder
+from .autoencoder import AutoEncoderSpec, AutoEncoderTrainer, ConvAutoEncoder, RareColourWeights
 
 # thesis Table 5.3: (latent, conv filters, iterations, batches per iteration, updates)
 SINGLE_FRAME_DEFAULTS = dict(latent=10, conv=(32, 64), iterations=20, batches=50, updates=3)
 STACK_DEFAULTS = dict(latent=15, conv=(64, 128), iterations=40, batches=25, updates=4)
+RARE_COLOUR_SAMPLE = 10_000  # frames whose colours set the loss weights of an update (ae_rare_colour_power)
 
 
 @dataclass(frozen=True)
@@ -47,6 +53,7 @@ class SRLSettings:
     batches: int
     batch_size: int
     learning_rate: float
+    rare_colour_power: float = 0.0
 
     @classmethod
     def from_config(cls, config, image_size: int = 32) -> "SRLSettings":
@@ -62,7 +69,7 @@ class SRLSettings:
             first_update=config.ae_first_update, update_every=config.ae_update_every,
             updates=config.ae_updates or d["updates"], iterations=config.ae_iterations or d["iterations"],
             batches=config.ae_batches or d["batches"], batch_size=config.ae_batch_size,
-            learning_rate=config.ae_learning_rate,
+            learning_rate=config.ae_learning_rate, rare_colour_power=config.ae_rare_colour_power,
         )
 
     @property
@@ -108,6 +115,10 @@ class StateRepresentation:
 
         Afterwards the latent statistics are measured again and every stored frame is re-encoded."""
         s = self.settings
+        weights = None
+        if s.rare_colour_power > 0:
+            sample = replay.sample_frames(min(replay.size, RARE_COLOUR_SAMPLE), rng)
+            weights = RareColourWeights(s.rare_colour_power).fit(sample)
         losses = []
         bar = None
         if progress:
@@ -116,7 +127,7 @@ class StateRepresentation:
             bar = tqdm(total=s.iterations, desc=f"auto-encoder update {self.updates_done + 1}/{s.updates}",
                        unit="it", leave=False, dynamic_ncols=True)
         for _ in range(s.iterations):
-            batch_losses = [self.trainer.train_batch(replay.sample_frames(s.batch_size, rng)) for _ in range(s.batches)]
+            batch_losses = [self.trainer.train_batch(replay.sample_frames(s.batch_size, rng), weights) for _ in range(s.batches)]
             losses.append(float(np.mean(batch_losses)))
             if bar is not None:
                 bar.update(1)

@@ -59,6 +59,8 @@ def test_impossible_values_and_bad_files_are_clear_errors(tmp_path):
         parse_args(["--gamma", "1.5"])
     with pytest.raises(ValueError, match="eval_epsilon"):
         parse_args(["--eval-epsilon", "1.5"])
+    with pytest.raises(ValueError, match="ae_rare_colour_power"):
+        parse_args(["--ae-rare-colour-power", "-0.5"])
     with pytest.raises(ValueError, match="batch_size"):
         parse_args(["--batch-size", "0"])
     with pytest.raises(ValueError, match="--checkpoint"):
