@@ -73,4 +73,11 @@ FIGURES = [
         ("laser_camera_pos_5_5b", "laser + camera + positions")]),
     ("fig6_19_frames_5_5c", "Camera frames on 5.5c (Fig. 6.19)", [
         ("frames_1_5_5c", "single frame"), ("frames_2_5_5c", "2 frames"), ("frames_4_5_5c", "4 frames")]),
+    # beyond the study (configs/beyond/)
+    ("beyond_rare_colours", "Auto-encoder loss weighted by colour rarity (beyond the study)", [
+        ("camera_5_5a", "5.5a camera, Eq. 4.10"), ("camera_5_5a_rare_colours", "5.5a camera, rare colours"),
+        ("camera_pos_5_5b", "5.5b camera + pos, Eq. 4.10"),
+        ("camera_pos_5_5b_rare_colours", "5.5b camera + pos, rare colours"),
+        ("laser_camera_pos_5_5b", "5.5b laser + camera + pos, Eq. 4.10"),
+        ("laser_camera_pos_5_5b_rare_colours", "5.5b laser + camera + pos, rare colours")]),
 ]
