@@ -151,10 +151,9 @@ class RareColourWeights:
 
     def fit(self, frames: np.ndarray) -> "RareColourWeights":
         bins = self._bins(frames)
-        size = self.levels ** 3 if np.asarray(frames).shape[-1] == 3 else self.levels
-        freq = np.bincount(bins.ravel(), minlength=size) / bins.size
+        freq = np.bincount(bins.ravel(), minlength=self.levels ** 3) / bins.size  # room for RGB's bins
         seen = freq > 0
-        w = np.zeros(size)
+        w = np.zeros_like(freq)
         w[seen] = freq[seen] ** -self.power
         w /= (freq * w).sum()
         w[~seen] = w[seen].max()

@@ -9,8 +9,8 @@ from agents.autoencoder import (
     STACKED_GRAY,
     AutoEncoderSpec,
     AutoEncoderTrainer,
-    RareColourWeights,
     ConvAutoEncoder,
+    RareColourWeights,
     reconstruction_loss,
 )
 
