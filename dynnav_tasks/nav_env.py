@@ -46,7 +46,7 @@ from .lasers import LaserRing
 from .motion import wrap_angle
 from .vulkan import explain, is_vulkan_error
 from .robot import FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH, LASER_HEIGHT, DiffBot, DriveConfig
-from .scene import HIDDEN_Z, build_world
+from .scene import HIDDEN_Z, add_lighting, build_world
 from .world import World
 
 OBS_MODES = ("state", "rgb", "rgb+state")
@@ -188,6 +188,9 @@ class NavEnv(BaseEnv):
     def _load_agent(self, options: dict):
         super()._load_agent(options, sapien.Pose())
         self.agent.controller.configure(self.drive_config)
+
+    def _load_lighting(self, options: dict):
+        add_lighting(self.scene)  # even: every surface shows its palette colour
 
     def _load_scene(self, options: dict):
         built = build_world(self.scene, self.world)
