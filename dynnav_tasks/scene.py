@@ -1,4 +1,9 @@
-"""Turn a ``World`` into SAPIEN actors: floor, coloured walls, obstacles and target discs."""
+"""Turn a ``World`` into SAPIEN actors: floor, coloured walls, obstacles, target discs and markers.
+
+Lighting is even: ambient light only, no directional lights, so every surface shows its
+palette colour (``world.py``) exactly, from every side and at every distance. A camera then
+tells things apart by colour alone, and a shaded face never takes another object's colour.
+"""
 
 from __future__ import annotations
 
@@ -11,8 +16,31 @@ from .motion import Mover
 from .world import FLOOR_COLOR, MOVING_OBSTACLE_COLOR, STATIC_OBSTACLE_COLOR, TARGET_COLOR, WALL_COLORS, World
 
 TARGET_DISC_RADIUS = 0.25
-HIDDEN_Z = -1.0
-"""height at which a target disc is out of sight, under the floor"""
+HIDDEN_Z = -10.0
+"""height at which a target (disc and marker) is out of sight, under the floor"""
+
+
+@dataclass(frozen=True)
+class TargetMarker:
+    """The red column that stands on the chosen target in the camera worlds.
+
+    Visual only: it has no collision shape, so the robot drives into it and the lasers do not
+    see it. Its radius is the success radius (0.3 m): the robot succeeds when its centre is
+    inside the column. Its height puts it above the 0.5 m obstacles and walls, so the front
+    camera sees it over them from most of the arena (see the camera tasks' docstrings for the
+    pixel counts this gives).
+    """
+
+    radius: float = 0.3
+    height: float = 1.2
+
+
+TARGET_MARKER = TargetMarker()
+
+
+def add_lighting(scene) -> None:
+    """Even lighting: ambient only, so rendered colours are the palette's sRGB colours."""
+    scene.set_ambient_light([1.0, 1.0, 1.0])
 
 
 @dataclass
@@ -34,7 +62,9 @@ class BuiltWorld:
 
 
 def _material(rgba) -> sapien.render.RenderMaterial:
-    return sapien.render.RenderMaterial(base_color=list(rgba))
+    """A material that renders as the sRGB colour ``rgba`` under ``add_lighting``."""
+    linear = [float(c) ** 2.2 for c in rgba[:3]]  # the shader outputs colour ** (1 / 2.2)
+    return sapien.render.RenderMaterial(base_color=[*linear, float(rgba[3])])
 
 
 def _box(scene, name, center, half_size, height, color, moving):
@@ -81,16 +111,25 @@ def build_world(scene, world: World) -> BuiltWorld:
             movers.append((mover, bodies))
             moving_bodies.extend(bodies)
 
-    # targets: red discs with no collision shape
+    # targets: red discs (and, in camera worlds, red columns) with no collision shape
     targets = []
+    upright = [0.7071068, 0, 0.7071068, 0]  # SAPIEN's cylinder axis x -> world z
     for t, spec in enumerate(world.targets):
         b = scene.create_actor_builder()
         b.add_cylinder_visual(
-            sapien.Pose([0, 0, 0.002], [0.7071068, 0, 0.7071068, 0]),  # cylinder axis x -> z
+            sapien.Pose([0, 0, 0.002], upright),
             radius=TARGET_DISC_RADIUS,
             half_length=0.002,
             material=_material(TARGET_COLOR),
         )
+        if world.target_marker:
+            m = TARGET_MARKER
+            b.add_cylinder_visual(
+                sapien.Pose([0, 0, m.height / 2], upright),
+                radius=m.radius,
+                half_length=m.height / 2,
+                material=_material(TARGET_COLOR),
+            )
         b.initial_pose = sapien.Pose([*spec.extent()[0], HIDDEN_Z])
         targets.append((spec.mover(), b.build_kinematic(f"target{t}")._objs[0]))
 

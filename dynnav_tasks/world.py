@@ -3,7 +3,8 @@
 A task file builds one ``World`` from these pieces; ``NavEnv`` turns it into a SAPIEN scene.
 Coordinates are metres in the world frame (right-handed, z up). Obstacles are boxes standing
 on the floor, tall enough (0.5 m) for the laser plane (0.30 m) to hit them; targets are flat
-discs with no collision shape.
+discs with no collision shape. In the camera worlds (``World.target_marker``) a red column,
+also with no collision shape, stands on the chosen target so the camera sees it from afar.
 """
 
 from __future__ import annotations
@@ -19,17 +20,22 @@ from .motion import BackAndForth, RandomInRect, Route, Static
 Motion = Union[Static, BackAndForth, Route, RandomInRect]
 RGBA = tuple[float, float, float, float]
 
-# Walls are coloured by side so a camera can tell directions apart.
+# The palette, as every camera sees it (sRGB, 0-1): ``scene.py`` lights the scene evenly, so a
+# surface shows its colour from every side and distance. Walls are coloured by side so a camera can tell
+# directions apart, and every colour has its own gray level (ITU-R 601 luma, the one
+# ``wrappers.to_gray`` uses) so gray frames tell them apart too:
+#   target 0.30 < static box 0.43 < west 0.48 < north 0.56 < east 0.63 < south 0.69
+#   < moving box 0.80 < floor 0.88
 WALL_COLORS: dict[str, RGBA] = {
-    "north": (0.15, 0.35, 0.85, 1.0),  # y = y_max: blue
-    "south": (0.95, 0.80, 0.10, 1.0),  # y = y_min: yellow
-    "east": (0.20, 0.70, 0.30, 1.0),  # x = x_max: green
-    "west": (0.60, 0.30, 0.75, 1.0),  # x = x_min: purple
+    "north": (0.20, 0.70, 0.75, 1.0),  # y = y_max: teal
+    "south": (0.98, 0.63, 0.24, 1.0),  # y = y_min: orange
+    "east": (0.45, 0.78, 0.32, 1.0),  # x = x_max: green
+    "west": (0.68, 0.32, 0.80, 1.0),  # x = x_min: purple
 }
-STATIC_OBSTACLE_COLOR: RGBA = (0.25, 0.45, 0.90, 1.0)
-MOVING_OBSTACLE_COLOR: RGBA = (0.95, 0.75, 0.15, 1.0)
-TARGET_COLOR: RGBA = (0.90, 0.05, 0.05, 1.0)
-FLOOR_COLOR: RGBA = (0.82, 0.82, 0.80, 1.0)
+STATIC_OBSTACLE_COLOR: RGBA = (0.26, 0.42, 0.90, 1.0)  # blue, as in the thesis
+MOVING_OBSTACLE_COLOR: RGBA = (0.94, 0.84, 0.20, 1.0)  # yellow, as in the thesis
+TARGET_COLOR: RGBA = (1.0, 0.0, 0.0, 1.0)  # red: the disc and, in camera worlds, its marker
+FLOOR_COLOR: RGBA = (0.88, 0.88, 0.87, 1.0)
 
 
 @dataclass(frozen=True)
@@ -115,6 +121,9 @@ class World:
     obstacles: tuple[Obstacles, ...] = field(default_factory=tuple)
     arena: Arena = STANDARD_ARENA
     start: StartArea = STANDARD_START
+    target_marker: bool = False
+    """stand a tall red column (visual only, see ``scene.TargetMarker``) on the chosen target, so
+    that a camera sees it from anywhere in the arena; the camera worlds set this"""
 
     def __post_init__(self):
         if not self.targets:

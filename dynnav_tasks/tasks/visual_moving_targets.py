@@ -36,6 +36,7 @@ class VisualMovingTargetsEnv(NavEnv):
 
     camera_world = True
     world = World(
+        target_marker=True,
         targets=(
             RandomInRect(x_range=(2.8, 3.8), y_range=(2.6, 3.8), speed_range=(0.05, 0.1), start=(3.3, 3.2)),
             RandomInRect(x_range=(2.8, 3.8), y_range=(-1.2, 0.0), speed_range=(0.05, 0.1), start=(3.3, -0.6)),

@@ -33,6 +33,7 @@ class VisualStaticTargetEnv(NavEnv):
 
     camera_world = True
     world = World(
+        target_marker=True,
         targets=(Static((3.0, 3.0)),),
         obstacles=(
             Obstacles(half_size=(0.25, 0.25), motion=BackAndForth(center=(1.0, 1.0), direction=(1, 0), amplitude=1.5, speed=0.1)),

@@ -39,6 +39,7 @@ class VisualTargetsEnv(NavEnv):
 
     camera_world = True
     world = World(
+        target_marker=True,
         targets=(Static((3.4, 3.0)), Static((3.2, -0.5)), Static((-0.5, 3.5))),
         obstacles=(
             Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(0.5, 1.8), y_range=(1.8, 3.2))),
