@@ -39,7 +39,7 @@ class CameraSpec:
     """side rendered before averaging down to ``size`` (None: render at ``size``)"""
     fov: float = 1.2
     """vertical field of view (rad)"""
-    pitch: float = 0.45
+    pitch: float = 0.35
     """downward tilt (rad)"""
 
     def __post_init__(self):

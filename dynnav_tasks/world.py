@@ -101,6 +101,11 @@ class StartArea:
         )
 
 
+CAMERA_WORLD_BOX_SPEED = (0.05, 0.15)
+"""Step lengths (m per step) of the wandering boxes of the camera worlds 5.5b and 5.5c: no
+faster than the robot (0.15 m per step), so that a box that can reach the robot was in the
+front camera's view for a step or more before (the laser worlds' boxes go up to 0.5 m)."""
+
 STANDARD_ARENA = Arena(x_range=(-2.0, 4.5), y_range=(-2.0, 4.5))
 """6.5 m x 6.5 m: the thesis's target coordinates with room around them."""
 STANDARD_START = StartArea(x_range=(-0.9, -0.4), y_range=(-0.9, -0.4), yaw_range=(-math.pi / 4, 3 * math.pi / 4))

@@ -2,7 +2,7 @@ from mani_skill.utils.registration import register_env
 
 from ..motion import RandomInRect
 from ..nav_env import NavEnv
-from ..world import Obstacles, World
+from ..world import CAMERA_WORLD_BOX_SPEED, Obstacles, World
 
 
 @register_env("DynNav-VisualMovingTargets-v1", max_episode_steps=NavEnv.max_episode_steps)
@@ -42,7 +42,7 @@ class VisualMovingTargetsEnv(NavEnv):
             RandomInRect(x_range=(2.8, 3.8), y_range=(-1.2, 0.0), speed_range=(0.05, 0.1), start=(3.3, -0.6)),
         ),
         obstacles=(
-            Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(0.6, 2.0), y_range=(1.8, 3.4))),
-            Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(0.6, 2.0), y_range=(-1.5, 0.0))),
+            Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(0.6, 2.0), y_range=(1.8, 3.4), speed_range=CAMERA_WORLD_BOX_SPEED)),
+            Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(0.6, 2.0), y_range=(-1.5, 0.0), speed_range=CAMERA_WORLD_BOX_SPEED)),
         ),
     )

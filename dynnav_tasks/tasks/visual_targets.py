@@ -2,7 +2,7 @@ from mani_skill.utils.registration import register_env
 
 from ..motion import BackAndForth, RandomInRect, Static
 from ..nav_env import NavEnv
-from ..world import Obstacles, World
+from ..world import CAMERA_WORLD_BOX_SPEED, Obstacles, World
 
 
 @register_env("DynNav-VisualTargets-v1", max_episode_steps=NavEnv.max_episode_steps)
@@ -42,8 +42,8 @@ class VisualTargetsEnv(NavEnv):
         target_marker=True,
         targets=(Static((3.4, 3.0)), Static((3.2, -0.5)), Static((-0.5, 3.5))),
         obstacles=(
-            Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(0.5, 1.8), y_range=(1.8, 3.2))),
-            Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(1.2, 2.2), y_range=(-1.2, 0.0))),
+            Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(0.5, 1.8), y_range=(1.8, 3.2), speed_range=CAMERA_WORLD_BOX_SPEED)),
+            Obstacles(half_size=(0.25, 0.25), motion=RandomInRect(x_range=(1.2, 2.2), y_range=(-1.2, 0.0), speed_range=CAMERA_WORLD_BOX_SPEED)),
             Obstacles(half_size=(0.25, 0.25), motion=BackAndForth(center=(2.5, 2.5), direction=(0, 1), amplitude=0.9, speed=0.1)),
         ),
     )
