@@ -36,7 +36,7 @@ class VisualStaticTargetEnv(NavEnv):
         target_marker=True,
         targets=(Static((3.0, 3.0)),),
         obstacles=(
-            Obstacles(half_size=(0.25, 0.25), motion=BackAndForth(center=(1.0, 1.0), direction=(1, 0), amplitude=1.5, speed=0.05)),
+            Obstacles(half_size=(0.25, 0.25), motion=BackAndForth(center=(1.7, 1.0), direction=(1, 0), amplitude=1.1, speed=0.05)),
             Obstacles(half_size=(0.25, 0.25), motion=BackAndForth(center=(1.5, 3.1), direction=(0, 1), amplitude=0.8, speed=0.04)),
         ),
     )
