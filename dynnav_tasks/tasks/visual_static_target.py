@@ -13,10 +13,15 @@ class VisualStaticTargetEnv(NavEnv):
     back and forth on regular paths. Meant for ``obs_mode="rgb"`` (the thesis's camera-only
     experiment); the state vector is there too.
 
-    * arena: x and y in [-2, 4.5] m, walls 0.5 m high, coloured by side
-    * target: (3, 3), a red disc on the floor
-    * moving obstacles (0.5 m boxes): one along y = 1 between x = -0.5 and 2.5 at 0.1 m per
-      step; one along x = 1.5 between y = 2.3 and 3.9 at 0.08 m per step
+    * arena: x and y in [-2, 4.5] m, walls 0.5 m high, coloured by side (see ``world.py``)
+    * target: (3, 3), a red disc on the floor under a red column 1.2 m tall and 0.3 m in
+      radius (the success radius), visual only: the lasers do not see it. At 32x32 the camera
+      sees the column as 408 pixels from 1 m, 36 from 4 m and 10 from 8 m, in every direction
+      (``tests/test_camera_worlds.py``), and over the 0.5 m boxes from most of the arena
+    * moving obstacles (0.5 m boxes), no faster than the robot so the camera sees them coming:
+      one along y = 1 between x = 0.6 and 2.8, across the way from the start to the target
+      on the robot's right; one along x = 1.5 between y = 2.3 and 3.9; both at 0.04 m per
+      step
     * state (24): 16 lasers | robot x, y | target x, y | obstacle 1 x, y | obstacle 2 x, y
 
     **Randomizations:**
@@ -36,7 +41,7 @@ class VisualStaticTargetEnv(NavEnv):
         target_marker=True,
         targets=(Static((3.0, 3.0)),),
         obstacles=(
-            Obstacles(half_size=(0.25, 0.25), motion=BackAndForth(center=(1.7, 1.0), direction=(1, 0), amplitude=1.1, speed=0.05)),
+            Obstacles(half_size=(0.25, 0.25), motion=BackAndForth(center=(1.7, 1.0), direction=(1, 0), amplitude=1.1, speed=0.04)),
             Obstacles(half_size=(0.25, 0.25), motion=BackAndForth(center=(1.5, 3.1), direction=(0, 1), amplitude=0.8, speed=0.04)),
         ),
     )
