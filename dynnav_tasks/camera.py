@@ -63,6 +63,22 @@ class CameraSpec:
         return CameraConfig(FRONT_CAMERA, pose=pose, width=n, height=n, fov=self.fov, near=0.01, far=20.0,
                             mount=mount, shader_pack="minimal")
 
+    def pixel_rays(self) -> np.ndarray:
+        """Direction of each pixel centre's ray in the robot's frame (forward, left, up): (size, size, 3).
+
+        The pinhole model the renderer uses: row 0 is the top of the image, column 0 its left
+        (the robot's left); the rays are not normalised (the optical axis has length 1)."""
+        n = self.size
+        t = math.tan(self.fov / 2)
+        u = ((np.arange(n) + 0.5) / n * 2 - 1) * t  # image x, right positive
+        v = (1 - (np.arange(n) + 0.5) / n * 2) * t  # image y, up positive
+        c, s = math.cos(self.pitch), math.sin(self.pitch)
+        rays = np.empty((n, n, 3))
+        rays[..., 0] = c + s * v[:, None]  # the camera ray (1, -u, v) tilted down by the pitch
+        rays[..., 1] = -u[None, :]
+        rays[..., 2] = -s + c * v[:, None]
+        return rays
+
     def shrink(self, rgb: np.ndarray) -> np.ndarray:
         """Average ``rendered`` x ``rendered`` down to ``size`` x ``size`` (uint8 in, uint8 out)."""
         k = self.rendered // self.size

@@ -80,10 +80,11 @@ def test_only_the_chosen_target_is_rendered(camera_env):
     for seed in range(12):
         env.reset(seed=seed)
         base = env.unwrapped
-        chosen = tuple(float(v) for v in base._target_xy)
+        chosen = tuple(float(v) for v in base.state_vector()[18:20])
         for tx, ty in targets:
             base.place_robot(tx, ty - 1.0, math.pi / 2)  # 1 m south of this target, facing it
-            visible = red_pixels(base.camera_image()).sum() >= 20
+            # a marked target 1 m away fills 400 pixels; the chosen one farther off, 70 at most
+            visible = red_pixels(base.camera_image()).sum() >= 200
             assert visible == np.allclose((tx, ty), chosen), (seed, (tx, ty), chosen)
         seen.add(chosen)
     assert len(seen) == 3  # every target was the chosen one at least once

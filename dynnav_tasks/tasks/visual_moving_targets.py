@@ -13,12 +13,16 @@ class VisualMovingTargetsEnv(NavEnv):
     visible) and two obstacles wander at random in theirs. Meant for stacked grayscale
     camera frames (``dynnav_tasks.wrappers.GrayFrameStack``), which show motion.
 
-    * arena: x and y in [-2, 4.5] m, walls 0.5 m high, coloured by side
+    * arena: x and y in [-2, 4.5] m, walls 0.5 m high, coloured by side (see ``world.py``)
     * target areas (one chosen per episode, starting at (3.3, 3.2) or (3.3, -0.6), moving
-      0.05-0.1 m per step): x in [2.8, 3.8] with y in [2.6, 3.8], and with y in [-1.2, 0.0]
-    * obstacle areas (0.5 m boxes, 0.05-0.5 m per step): x in [0.6, 2.0] with y in
-      [1.8, 3.4], and with y in [-1.5, 0.0]; between them a lane 1.3 m wide (y from 0.25
-      to 1.55 m) leads from the start to both target areas out of the obstacles' reach
+      0.05-0.1 m per step): x in [2.8, 3.8] with y in [2.6, 3.8], and with y in [-1.2, 0.0].
+      The chosen target is a red disc under a red column 1.2 m tall (visual only, see
+      ``DynNav-VisualStaticTarget-v1``); the other is not rendered. In gray (the frame
+      stack) the column is the darkest thing but the sky, 40+ levels from everything else
+    * obstacle areas (0.5 m boxes, 0.05-0.15 m per step, no faster than the robot): x in
+      [0.6, 2.0] with y in [1.8, 3.4], and with y in [-1.5, 0.0]; between them a lane 1.3 m
+      wide (y from 0.25 to 1.55 m) leads from the start to both target areas out of the
+      obstacles' reach
     * state (24): 16 lasers | robot x, y | target x, y | obstacle 1 x, y | obstacle 2 x, y
 
     **Randomizations:**

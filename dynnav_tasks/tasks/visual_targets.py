@@ -13,9 +13,13 @@ class VisualTargetsEnv(NavEnv):
     visible (the others are not rendered), two obstacles wandering at random in their areas
     and a third moving back and forth on a regular path.
 
-    * arena: x and y in [-2, 4.5] m, walls 0.5 m high, coloured by side
-    * targets (one chosen per episode): (3.4, 3.0), (3.2, -0.5), (-0.5, 3.5)
-    * random obstacles (0.5 m boxes, 0.05-0.5 m per step): x in [0.5, 1.8], y in [1.8, 3.2];
+    * arena: x and y in [-2, 4.5] m, walls 0.5 m high, coloured by side (see ``world.py``)
+    * targets (one chosen per episode): (3.4, 3.0), (3.2, -0.5), (-0.5, 3.5); the chosen one
+      is a red disc under a red column 1.2 m tall (visual only, see
+      ``DynNav-VisualStaticTarget-v1``), the others are not rendered, so the camera tells
+      which target was chosen from anywhere in the arena
+    * random obstacles (0.5 m boxes, 0.05-0.15 m per step, no faster than the robot):
+      x in [0.5, 1.8], y in [1.8, 3.2];
       and x in [1.2, 2.2], y in [-1.2, 0.0]; between them a lane 1.3 m wide (y from 0.25 to
       1.55 m) leads east, out of their reach
     * regular obstacle: along x = 2.5 between y = 1.6 and 3.4 at 0.1 m per step, clear of
