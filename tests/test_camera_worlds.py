@@ -115,8 +115,8 @@ def test_the_target_is_in_sight_from_most_of_the_arena_and_unique_in_gray(make_e
 # same episodes and frames). The README's "Camera worlds" table quotes these runs.
 PILOT_FLOOR = {
     "DynNav-VisualStaticTarget-v1": 0.80,
-    "DynNav-VisualTargets-v1": 0.5,
-    "DynNav-VisualMovingTargets-v1": 0.5,
+    "DynNav-VisualTargets-v1": 0.55,
+    "DynNav-VisualMovingTargets-v1": 0.55,
 }
 
 
