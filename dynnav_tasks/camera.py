@@ -42,10 +42,21 @@ class CameraSpec:
     pitch: float = 0.35
     """downward tilt (rad)"""
 
+    MAX_SIZE = 512
+    MAX_RENDER_SIZE = 2048
+
     def __post_init__(self):
-        if self.size < 1:
-            raise ValueError(f"camera_size must be >= 1, got {self.size}")
-        if self.render_size is not None and (self.render_size < self.size or self.render_size % self.size):
+        if isinstance(self.size, bool) or not isinstance(self.size, (int, np.integer)) or not 8 <= self.size <= self.MAX_SIZE:
+            raise ValueError(f"camera_size must be an integer from 8 to {self.MAX_SIZE} (32 in the thesis), got {self.size!r}")
+        if self.render_size is not None and (
+            isinstance(self.render_size, bool) or not isinstance(self.render_size, (int, np.integer))
+            or not self.size <= self.render_size <= self.MAX_RENDER_SIZE
+        ):
+            raise ValueError(
+                f"camera_render_size must be an integer from camera_size ({self.size}) to "
+                f"{self.MAX_RENDER_SIZE}, got {self.render_size!r}"
+            )
+        if self.render_size is not None and self.render_size % self.size:
             raise ValueError(
                 f"camera_render_size ({self.render_size}) must be a multiple of camera_size ({self.size}), "
                 "e.g. 640 for 32"

@@ -137,3 +137,14 @@ def test_render_640_and_shrink_like_the_thesis(camera_env):
 def test_bad_camera_sizes_are_named(make_env):
     with pytest.raises(ValueError, match="camera_render_size \\(100\\) must be a multiple of camera_size \\(32\\)"):
         make_env("DynNav-VisualStaticTarget-v1", obs_mode="rgb", camera_render_size=100)
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    (dict(camera_size=0), "camera_size must be an integer from 8 to 512"),
+    (dict(camera_size=100000), "camera_size must be an integer from 8 to 512"),
+    (dict(camera_size=32.0), "camera_size must be an integer"),
+    (dict(camera_render_size=64000), "camera_render_size must be an integer from camera_size \\(32\\) to 2048"),
+])
+def test_camera_sizes_are_bounded(make_env, kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        make_env("DynNav-VisualStaticTarget-v1", obs_mode="rgb", **kwargs)
