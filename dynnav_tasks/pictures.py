@@ -7,7 +7,8 @@ the targets' motion (dark red: segments, or the areas they wander in), the obsta
 (orange: routes with arrows, or the areas their boxes can cover) and the start area (white).
 
 ``<task>-camera.png`` (camera worlds): what the robot's front camera sees (32x32, shown
-enlarged) every 4 steps while it turns towards the target and drives at it.
+enlarged) every 4 steps while ``camera_pilot.CameraPilot``, which reads only these frames,
+drives to the target.
 """
 
 from __future__ import annotations
@@ -94,22 +95,19 @@ def annotated_top_down(env) -> Image.Image:
 
 
 def camera_strip(task_id: str, seed: int, frames: int = 6, every: int = 4, scale: int = 4) -> Image.Image:
-    """Front-camera frames of one episode driven straight at the target, side by side."""
-    import math
-
+    """Front-camera frames of one episode driven by the camera-only pilot, side by side."""
     from mani_skill.utils.wrappers.gymnasium import CPUGymWrapper
 
     import dynnav_tasks
 
+    from .camera_pilot import CameraPilot
+
     env = CPUGymWrapper(dynnav_tasks.make(task_id, obs_mode="rgb"))
     obs, _ = env.reset(seed=seed)
     base, shots, step = env.unwrapped, [obs], 0
+    pilot = CameraPilot(camera=base.camera_spec)
     while len(shots) < frames:
-        x, y, yaw = base.agent.pose2d()
-        tx, ty = base._target_xy
-        bearing = (math.atan2(ty - y, tx - x) - yaw + math.pi) % (2 * math.pi) - math.pi
-        action = 0 if abs(bearing) < math.pi / 16 else (1 if bearing > 0 else 2)
-        obs, _, terminated, truncated, _ = env.step(action)
+        obs, _, terminated, truncated, _ = env.step(pilot.act(obs))
         step += 1
         if step % every == 0 or terminated or truncated:
             shots.append(obs)
