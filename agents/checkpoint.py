@@ -1,26 +1,46 @@
-"""Checkpoints: everything a stopped run needs to continue, written atomically.
+"""Checkpoints: everything a stopped run needs to continue, in files any tool can open.
 
-A checkpoint is one pickle file holding the resolved config, the Q-network, the target
-network and Adam's state, the replay memory, the exploration/sampling generator's state and
-the number of finished episodes. It is written to a temporary file in the same directory,
-flushed to disk, then renamed over the old one (``os.replace``), so a run killed at any
-moment leaves either the previous checkpoint or the new one, never a partial file.
+A run's checkpoint is the folder ``<run>/checkpoint/``:
+
+* ``meta.json``: the format and its version, the resolved config, the episode and step counts,
+  the input shapes, the random generators' states and every setting of the optimizers;
+* ``weights.pt``: a flat ``{name: tensor}`` dict (online and target networks, Adam's moments,
+  the auto-encoder, torch's random state), read with ``torch.load(path, weights_only=True)``;
+* ``memory.npz``: the replay memory's arrays (``numpy.load(path)``).
+
+Loading never unpickles code (``weights_only=True``, ``allow_pickle=False``). A missing,
+truncated or corrupt file, weights that are not finite, or another format version is a
+``CheckpointError`` that names the file; so is a ``checkpoint.pkl`` of an older version.
+
+Writes are atomic: the files go to ``<run>/.checkpoint.tmp-*/`` first, are flushed to disk,
+then that folder is renamed to ``checkpoint`` (the previous one is moved aside first and
+deleted after). A run killed at any moment keeps a complete checkpoint; what a killed write
+left behind (temporary folders and files) is removed by the next write or load.
 """
 
 from __future__ import annotations
 
+import io
+import json
 import os
-import pickle
+import shutil
 import tempfile
+import zipfile
 from pathlib import Path
 
+import numpy as np
+import torch
+
 FORMAT = "dynnav-dqn-checkpoint"
-VERSION = 1
-FILENAME = "checkpoint.pkl"
+VERSION = 2
+FILENAME = "checkpoint"
+"""the checkpoint folder inside a run directory"""
+META, WEIGHTS, MEMORY = "meta.json", "weights.pt", "memory.npz"
+OLD_PICKLE = "checkpoint.pkl"
 
 
 class CheckpointError(ValueError):
-    """A checkpoint is missing, truncated, or not a checkpoint of this agent."""
+    """A checkpoint is missing, truncated, corrupt, or not a checkpoint of this agent's format."""
 
 
 def _umask() -> int:
@@ -46,30 +66,163 @@ def atomic_write_bytes(path: str | Path, data: bytes) -> None:
         raise
 
 
-def save(path: str | Path, state: dict) -> None:
-    atomic_write_bytes(path, pickle.dumps({"format": FORMAT, "version": VERSION, **state}, protocol=5))
+def clean_leftovers(run_dir: str | Path) -> None:
+    """Remove what killed writes left in ``run_dir``: temporary checkpoint folders and ``.*.tmp`` files.
+
+    A checkpoint moved aside while the new one was renamed into place is put back if the new one
+    never arrived."""
+    run_dir = Path(run_dir)
+    if not run_dir.is_dir():
+        return
+    for old in sorted(run_dir.glob(".checkpoint.old-*")):
+        if not (run_dir / FILENAME).exists() and (old / META).is_file():
+            os.replace(old, run_dir / FILENAME)
+        else:
+            shutil.rmtree(old, ignore_errors=True)
+    for tmp in run_dir.glob(".checkpoint.tmp-*"):
+        shutil.rmtree(tmp, ignore_errors=True)
+    for tmp in run_dir.glob(".*.tmp"):
+        tmp.unlink(missing_ok=True)
 
 
+# ---------------------------------------------------------------------------------------- (de)composing
+def _split(value, tensors: dict, arrays: dict | None, key: str):
+    """JSON-able ``value`` with tensors (and numpy arrays) replaced by references to ``tensors`` /
+    ``arrays`` (``arrays`` None: numpy arrays are stored as tensors too)."""
+    if isinstance(value, torch.Tensor):
+        tensors[key] = value.detach().cpu().clone().contiguous()
+        return {"$tensor": key}
+    if isinstance(value, np.ndarray):
+        if arrays is not None:
+            arrays[key] = value
+            return {"$array": key}
+        tensors[key] = torch.from_numpy(np.ascontiguousarray(value).copy())
+        return {"$ndarray": key}
+    if isinstance(value, dict):
+        if all(isinstance(k, str) for k in value):
+            return {k: _split(v, tensors, arrays, f"{key}.{k}") for k, v in value.items()}
+        return {"$items": [[k, _split(v, tensors, arrays, f"{key}.{k}")] for k, v in value.items()]}
+    if isinstance(value, (list, tuple)):
+        return [_split(v, tensors, arrays, f"{key}.{i}") for i, v in enumerate(value)]
+    if isinstance(value, (np.integer, np.floating, np.bool_)):
+        return value.item()
+    return value
+
+
+def _join(value, tensors: dict, arrays: dict):
+    if isinstance(value, dict):
+        if "$tensor" in value:
+            return tensors[value["$tensor"]]
+        if "$ndarray" in value:
+            return tensors[value["$ndarray"]].numpy()
+        if "$array" in value:
+            return arrays[value["$array"]]
+        if "$items" in value:
+            return {k: _join(v, tensors, arrays) for k, v in value["$items"]}
+        return {k: _join(v, tensors, arrays) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_join(v, tensors, arrays) for v in value]
+    return value
+
+
+# ---------------------------------------------------------------------------------------- saving
+def save(run_dir: str | Path, state: dict) -> Path:
+    """Write ``state`` (its ``memory`` entry to memory.npz, tensors to weights.pt, the rest to
+    meta.json) as ``run_dir``/checkpoint, atomically; returns the checkpoint folder."""
+    run_dir = Path(run_dir)
+    clean_leftovers(run_dir)
+    tensors, arrays = {}, {}
+    meta = {k: _split(v, tensors, arrays if k == "memory" else None, k) for k, v in state.items()}
+    meta = {"format": FORMAT, "version": VERSION, **meta}
+    tmp = Path(tempfile.mkdtemp(dir=run_dir, prefix=".checkpoint.tmp-"))
+    try:
+        os.chmod(tmp, 0o777 & ~_umask())
+        buffer = io.BytesIO()
+        torch.save(tensors, buffer)
+        npz = io.BytesIO()
+        np.savez(npz, **arrays)
+        for name, data in ((WEIGHTS, buffer.getvalue()), (MEMORY, npz.getvalue()),
+                           (META, json.dumps(meta, indent=1).encode())):
+            with open(tmp / name, "wb") as f:
+                f.write(data)
+                f.flush()
+                os.fsync(f.fileno())
+        target = run_dir / FILENAME
+        if target.exists():
+            aside = run_dir / f".checkpoint.old-{os.urandom(4).hex()}"
+            os.replace(target, aside)  # a kill from here to the next line: clean_leftovers puts it back
+            os.replace(tmp, target)
+            shutil.rmtree(aside, ignore_errors=True)
+        else:
+            os.replace(tmp, target)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return target
+
+
+# ---------------------------------------------------------------------------------------- loading
 def resolve(path: str | Path) -> Path:
-    """A checkpoint file, or the checkpoint inside a run directory."""
+    """The checkpoint folder: given as itself, as the run directory holding it, or as a file in it."""
     path = Path(path)
-    if path.is_dir():
+    if path.is_file() and path.name in (META, WEIGHTS, MEMORY):
+        path = path.parent
+    if path.is_dir() and not (path / META).exists() and (path / FILENAME).is_dir():
         path = path / FILENAME
-    if not path.is_file():
-        raise CheckpointError(f"no checkpoint at {str(path)!r}")
+    old = path if path.suffix == ".pkl" else path / OLD_PICKLE
+    if old.is_file() and not (path / META).is_file():
+        raise CheckpointError(
+            f"{str(old)!r} is a checkpoint of an older dynnav version (a Python pickle). This version reads "
+            f"only checkpoint folders (meta.json, weights.pt, memory.npz) and never unpickles, since a pickle "
+            f"can run any code; train the run again with this version")
+    if not path.is_dir() or not (path / META).is_file():
+        if path.is_dir():
+            clean_leftovers(path)
+            if (path / FILENAME / META).is_file():
+                return path / FILENAME
+        raise CheckpointError(f"no checkpoint at {str(path)!r} (expected a run directory or its checkpoint folder)")
     return path
 
 
-def load(path: str | Path) -> dict:
-    """The state saved by ``save``; CheckpointError if missing, corrupt or of another format."""
-    path = resolve(path)
+def load(path: str | Path, memory: bool = True) -> dict:
+    """The state saved by ``save``; CheckpointError naming the file if anything is wrong.
+
+    ``memory=False`` skips the replay memory (testing a policy does not need it)."""
+    folder = resolve(path)
     try:
-        with open(path, "rb") as f:
-            state = pickle.load(f)
+        meta = json.loads((folder / META).read_text())
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as err:
+        raise CheckpointError(f"{str(folder / META)!r} is corrupt or unreadable ({err})") from err
+    if not isinstance(meta, dict) or meta.get("format") != FORMAT:
+        raise CheckpointError(f"{str(folder / META)!r} is not a dynnav DQN checkpoint")
+    if meta.get("version") != VERSION:
+        raise CheckpointError(f"{str(folder / META)!r} has format version {meta.get('version')}; this version of "
+                              f"dynnav reads version {VERSION}")
+    try:
+        tensors = torch.load(folder / WEIGHTS, map_location="cpu", weights_only=True)
     except Exception as err:  # truncated or overwritten files raise many kinds of errors
-        raise CheckpointError(f"checkpoint {str(path)!r} is corrupt or unreadable ({type(err).__name__}: {err})") from err
-    if not isinstance(state, dict) or state.get("format") != FORMAT:
-        raise CheckpointError(f"{str(path)!r} is not a dynnav DQN checkpoint")
-    if state.get("version") != VERSION:
-        raise CheckpointError(f"checkpoint {str(path)!r} has format version {state.get('version')}, expected {VERSION}")
+        raise CheckpointError(f"{str(folder / WEIGHTS)!r} is corrupt or unreadable ({type(err).__name__}: {err})") from err
+    if not isinstance(tensors, dict) or not all(isinstance(t, torch.Tensor) for t in tensors.values()):
+        raise CheckpointError(f"{str(folder / WEIGHTS)!r} is not a dict of tensors")
+    for name, t in tensors.items():
+        if t.is_floating_point() and not torch.isfinite(t).all():
+            raise CheckpointError(f"{str(folder / WEIGHTS)!r}: {name!r} holds non-finite values (NaN or inf); "
+                                  f"the run diverged before this checkpoint")
+    arrays = {}
+    if memory:
+        try:
+            with np.load(folder / MEMORY, allow_pickle=False) as npz:
+                arrays = {k: npz[k] for k in npz.files}
+        except (OSError, ValueError, zipfile.BadZipFile, EOFError) as err:
+            raise CheckpointError(f"{str(folder / MEMORY)!r} is corrupt or unreadable ({err})") from err
+    try:
+        state = {k: _join(v, tensors, arrays) for k, v in meta.items() if memory or k != "memory"}
+    except KeyError as err:
+        raise CheckpointError(f"{str(folder)!r}: meta.json names {err} but the weights or memory file lacks it") from err
     return state
+
+
+def exists(run_dir: str | Path) -> bool:
+    """Whether ``run_dir`` holds a checkpoint (after putting back one a killed write moved aside)."""
+    clean_leftovers(run_dir)
+    return (Path(run_dir) / FILENAME / META).is_file()

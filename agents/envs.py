@@ -110,3 +110,11 @@ class ObsScaler:
 
     def __call__(self, obs):
         return (obs - self.offset) * self.scale
+
+
+def make_env_from(config, **task_kwargs) -> gym.Env:
+    """``make_env`` with a run config's task, reward, task options and camera frames (``task_kwargs``
+    are added to the config's)."""
+    e = config.env
+    return make_env(config.task, e.reward_mode, e.reward_params, {**e.task_kwargs, **task_kwargs},
+                    config.camera.camera_frames)

@@ -1,17 +1,22 @@
-"""What the Q-network reads and what the replay memory keeps, for state runs and camera runs.
+"""What the Q-network reads and what the replay memory keeps, for state, camera and pixel runs.
 
-Both classes turn the environment's observations into Q-network inputs and store the
-transitions, behind the same calls the training loop makes (``memory`` is what a checkpoint saves)::
+A *features* object turns an environment observation into the Q-network's input (an array,
+or a tuple of arrays for a network with several inputs); ``input_specs`` gives each input's
+shape and dtype. An *experience* adds the replay memory, behind the calls the training loop
+makes (``memory`` is what a checkpoint saves)::
 
     x = experience.begin(obs)                                   # an episode's first observation
     x = experience.step(action, reward, next_obs, terminated)   # store a transition, next input
-    experience.sample_into(learner.batch, rng)                  # a minibatch for one update
+    experience.sample_into(batch, rng)                          # a minibatch for one update
 
-* ``VectorExperience``: the task's state vector (lasers, positions), scaled to [-1, 1].
-* ``CameraExperience`` (thesis Sec. 5.2.3): the auto-encoder's latent of the camera frame (one
-  RGB frame or a stack of gray frames), followed by the chosen parts of the state vector
-  (Table 5.4). Before the auto-encoder's first update its inputs are ``None``: the agent acts
-  at random and the Q-network does not train (Alg. 2).
+* state runs: the task's state vector, scaled to [-1, 1] (``ReplayMemory``);
+* camera runs, ``camera_input: latent`` (thesis Sec. 5.2.3): the auto-encoder's latent of the
+  frame (one RGB frame or a stack of gray frames) followed by the chosen parts of the state
+  vector (Table 5.4). Until the auto-encoder's first update the inputs are ``None``: the agent
+  acts at random and the Q-network does not train (Alg. 2);
+* camera runs, ``camera_input: pixels``: the uint8 frames themselves and the chosen state parts,
+  two inputs of a conv Q-network.
+Camera runs store every frame once, in a ``FrameReplay``.
 """
 
 from __future__ import annotations
@@ -43,54 +48,41 @@ def state_part_indices(layout: list[tuple[str, int]], names) -> np.ndarray:
                     dtype=np.int64)
 
 
-class VectorExperience:
-    """State-vector runs: scaled state vectors in a ``ReplayMemory``."""
-
-    ready = True
-    """the Q-network can act on and learn from these inputs"""
-    srl = None
-    """no state representation to learn"""
+# ---------------------------------------------------------------------------------------- features
+class VectorFeatures:
+    """State vector -> scaled state vector."""
 
     def __init__(self, env, config):
-        self.scale = ObsScaler(env.observation_space, config.normalize_obs)
-        self.dim = int(env.observation_space.shape[0])
-        self.memory = ReplayMemory(config.buffer_size, self.dim)
-        self._x = None
+        self.scale = ObsScaler(env.observation_space, config.env.normalize_obs)
+        self.input_specs = [((int(env.observation_space.shape[0]),), np.float32)]
 
-    def begin(self, obs) -> np.ndarray:
-        self._x = self.scale(obs)
-        return self._x
-
-    def step(self, action: int, reward: float, next_obs, terminated: bool) -> np.ndarray:
-        x = self.scale(next_obs)
-        self.memory.add(self._x, action, reward, x, terminated)
-        self._x = x
-        return x
-
-    def sample_into(self, batch, rng) -> None:
-        self.memory.sample_into(batch, rng)
-
-    def __len__(self) -> int:
-        return len(self.memory)
+    def __call__(self, obs) -> np.ndarray:
+        return self.scale(obs).astype(np.float32)
 
 
-class CameraFeatures:
-    """Camera observation -> [standardised latent | scaled state parts] (no storage)."""
+class CameraParts:
+    """The frame and the scaled state parts of a camera observation ``{"rgb" or "gray": ..., "state": ...}``."""
 
-    def __init__(self, env, config, srl: StateRepresentation):
-        self.srl = srl
-        self.frame_key = frame_key(config.camera_frames)
-        space = env.observation_space["state"]
-        self.parts = state_part_indices(env.unwrapped.state_layout(), config.camera_state)
-        scaler = ObsScaler(space, config.normalize_obs)
+    def __init__(self, env, config):
+        self.frame_key = frame_key(config.camera.camera_frames)
+        self.frame_shape = tuple(env.observation_space[self.frame_key].shape)
+        self.parts = state_part_indices(env.unwrapped.state_layout(), config.camera.camera_state)
+        scaler = ObsScaler(env.observation_space["state"], config.env.normalize_obs)
         self.offset, self.scale = scaler.offset[self.parts], scaler.scale[self.parts]
-        self.dim = srl.latent_dim + len(self.parts)
-        self.last_latent: Optional[np.ndarray] = None
-        """the latent of the frame most recently turned into an input (for recordings and plots)"""
 
     def split(self, obs) -> tuple[np.ndarray, np.ndarray]:
-        """(uint8 frame, scaled state parts) of an observation."""
-        return obs[self.frame_key], (obs["state"][self.parts] - self.offset) * self.scale
+        return obs[self.frame_key], ((obs["state"][self.parts] - self.offset) * self.scale).astype(np.float32)
+
+
+class LatentFeatures(CameraParts):
+    """Camera observation -> [standardised latent | scaled state parts]."""
+
+    def __init__(self, env, config, srl: StateRepresentation):
+        super().__init__(env, config)
+        self.srl = srl
+        self.input_specs = [((srl.latent_dim + len(self.parts),), np.float32)]
+        self.last_latent: Optional[np.ndarray] = None
+        """the latent of the frame most recently turned into an input (for recordings and plots)"""
 
     def combine(self, frame: np.ndarray, state: np.ndarray) -> np.ndarray:
         self.last_latent = self.srl.encode(frame)
@@ -111,34 +103,56 @@ class CameraFeatures:
         return dict(latent=self.srl.encode(frame), reconstruction=reconstruction)
 
 
-class CameraExperience:
-    """Camera runs: frames in a ``FrameReplay``, encoded by the frozen auto-encoder."""
+class PixelFeatures(CameraParts):
+    """Camera observation -> (uint8 frame, scaled state parts): the two inputs of a pixel Q-network."""
 
-    def __init__(self, env, config, srl: StateRepresentation):
-        self.srl = srl
-        self.encoder_features = CameraFeatures(env, config, srl)
-        self.dim = self.encoder_features.dim
-        frame_shape = env.observation_space[self.encoder_features.frame_key].shape
-        self.memory = FrameReplay(config.buffer_size, frame_shape, len(self.encoder_features.parts), srl.latent_dim)
+    def __init__(self, env, config):
+        super().__init__(env, config)
+        self.input_specs = [(self.frame_shape, np.uint8), ((len(self.parts),), np.float32)]
 
-    @property
-    def ready(self) -> bool:
-        return self.srl.trained
+    def __call__(self, obs) -> tuple[np.ndarray, np.ndarray]:
+        return self.split(obs)
 
-    def _input(self, slot: int) -> Optional[np.ndarray]:
-        if not self.srl.trained:
-            return None
-        m = self.memory
-        x = self.encoder_features.combine(m.frames[slot], m.states[slot])
-        m.latents[slot] = x[: self.srl.latent_dim]
+
+def new_state_representation(env, config) -> StateRepresentation:
+    """An untrained auto-encoder sized for ``env``'s camera frames and ``config``'s settings."""
+    image = env.observation_space[frame_key(config.camera.camera_frames)].shape[0]
+    return StateRepresentation(SRLSettings.from_config(config, image_size=image), seed=config.seed)
+
+
+def make_features(env, config, srl: Optional[StateRepresentation] = None):
+    """The features of a run: vector, latent (with ``srl``, or a new one) or pixels, as the config says."""
+    c = config.camera
+    if not c.camera_frames:
+        return VectorFeatures(env, config)
+    if c.camera_input == "pixels":
+        return PixelFeatures(env, config)
+    return LatentFeatures(env, config, srl if srl is not None else new_state_representation(env, config))
+
+
+# ---------------------------------------------------------------------------------------- experience
+class VectorExperience:
+    """State-vector runs: scaled state vectors in a ``ReplayMemory``."""
+
+    ready = True
+    """the Q-network can act on and learn from these inputs"""
+    srl = None
+    """no state representation to learn"""
+
+    def __init__(self, features: VectorFeatures, config):
+        self.features = features
+        self.memory = ReplayMemory(config.dqn.buffer_size, features.input_specs[0][0][0])
+        self._x = None
+
+    def begin(self, obs) -> np.ndarray:
+        self._x = self.features(obs)
+        return self._x
+
+    def step(self, action: int, reward: float, next_obs, terminated: bool) -> np.ndarray:
+        x = self.features(next_obs)
+        self.memory.add(self._x, action, reward, x, terminated)
+        self._x = x
         return x
-
-    def begin(self, obs) -> Optional[np.ndarray]:
-        return self._input(self.memory.start(*self.encoder_features.split(obs)))
-
-    def step(self, action: int, reward: float, next_obs, terminated: bool) -> Optional[np.ndarray]:
-        frame, state = self.encoder_features.split(next_obs)
-        return self._input(self.memory.add(action, reward, frame, state, terminated))
 
     def sample_into(self, batch, rng) -> None:
         self.memory.sample_into(batch, rng)
@@ -147,14 +161,50 @@ class CameraExperience:
         return len(self.memory)
 
 
-def new_state_representation(env, config) -> StateRepresentation:
-    """An untrained auto-encoder sized for ``env``'s camera frames and ``config``'s settings."""
-    image = env.observation_space[frame_key(config.camera_frames)].shape[0]
-    return StateRepresentation(SRLSettings.from_config(config, image_size=image), seed=config.seed)
+class FrameExperience:
+    """Camera runs: frames and state parts in a ``FrameReplay``; the inputs are latents of the
+    frozen auto-encoder (``LatentFeatures``) or the frames themselves (``PixelFeatures``)."""
+
+    def __init__(self, features, config):
+        self.features = features
+        self.srl = getattr(features, "srl", None)
+        latent = self.srl.latent_dim if self.srl is not None else 0
+        self.memory = FrameReplay(config.dqn.buffer_size, features.frame_shape, len(features.parts), latent)
+
+    @property
+    def ready(self) -> bool:
+        return self.srl is None or self.srl.trained
+
+    def _input(self, slot: int, frame: np.ndarray, state: np.ndarray):
+        if self.srl is None:
+            return frame, state
+        if not self.srl.trained:
+            return None
+        x = self.features.combine(frame, state)
+        self.memory.latents[slot] = x[: self.srl.latent_dim]
+        return x
+
+    def begin(self, obs):
+        frame, state = self.features.split(obs)
+        return self._input(self.memory.start(frame, state), frame, state)
+
+    def step(self, action: int, reward: float, next_obs, terminated: bool):
+        frame, state = self.features.split(next_obs)
+        return self._input(self.memory.add(action, reward, frame, state, terminated), frame, state)
+
+    def sample_into(self, batch, rng) -> None:
+        if self.srl is None:
+            self.memory.sample_frames_into(batch, rng)
+        else:
+            self.memory.sample_into(batch, rng)
+
+    def __len__(self) -> int:
+        return len(self.memory)
 
 
 def make_experience(env, config):
-    """The experience of a run: ``CameraExperience`` when ``config.camera_frames`` > 0."""
-    if not config.camera_frames:
-        return VectorExperience(env, config)
-    return CameraExperience(env, config, new_state_representation(env, config))
+    """The features and replay memory of a run, as ``config`` says."""
+    features = make_features(env, config)
+    if isinstance(features, VectorFeatures):
+        return VectorExperience(features, config)
+    return FrameExperience(features, config)

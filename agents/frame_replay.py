@@ -23,7 +23,7 @@ from typing import Callable
 
 import numpy as np
 
-from .qnetwork import Batch
+from .learner import Batch
 
 
 class FrameReplay:
@@ -103,14 +103,26 @@ class FrameReplay:
 
     def sample_into(self, batch: Batch, rng: np.random.Generator) -> None:
         """A minibatch of transitions as Q-network inputs [latent | state parts] into ``batch``."""
-        idx = self.valid_indices(len(batch.actions), rng)
-        nxt = (idx + 1) % self.capacity
+        idx, nxt = self._transitions(batch, rng)
         z = self.latent_dim
-        batch.obs[:, :z], batch.obs[:, z:] = self.latents[idx], self.states[idx]
-        batch.next_obs[:, :z], batch.next_obs[:, z:] = self.latents[nxt], self.states[nxt]
+        batch.obs[0][:, :z], batch.obs[0][:, z:] = self.latents[idx], self.states[idx]
+        batch.next_obs[0][:, :z], batch.next_obs[0][:, z:] = self.latents[nxt], self.states[nxt]
+
+    def sample_frames_into(self, batch: Batch, rng: np.random.Generator) -> None:
+        """A minibatch of transitions as (frames, state parts) into ``batch`` (pixel runs)."""
+        idx, nxt = self._transitions(batch, rng)
+        np.take(self.frames, idx, axis=0, out=batch.obs[0])
+        np.take(self.frames, nxt, axis=0, out=batch.next_obs[0])
+        np.take(self.states, idx, axis=0, out=batch.obs[1])
+        np.take(self.states, nxt, axis=0, out=batch.next_obs[1])
+
+    def _transitions(self, batch: Batch, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+        """Slots of a minibatch's transitions and of their next observations; fills actions, rewards, not_done."""
+        idx = self.valid_indices(len(batch.actions), rng)
         np.take(self.actions, idx, out=batch.actions)
         np.take(self.rewards, idx, out=batch.rewards)
         np.take(self.not_done, idx, out=batch.not_done)
+        return idx, (idx + 1) % self.capacity
 
     def sample_frames(self, n: int, rng: np.random.Generator) -> np.ndarray:
         """``n`` stored frames drawn uniformly (with replacement), for the auto-encoder."""

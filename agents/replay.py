@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .qnetwork import Batch
+from .learner import Batch
 
 
 class ReplayMemory:
@@ -41,8 +41,8 @@ class ReplayMemory:
     def sample_into(self, batch: Batch, rng: np.random.Generator) -> None:
         """Copy a uniformly drawn minibatch (with replacement) into ``batch``'s arrays."""
         idx = rng.integers(0, self.size, size=len(batch.actions))
-        np.take(self.obs, idx, axis=0, out=batch.obs)
-        np.take(self.next_obs, idx, axis=0, out=batch.next_obs)
+        np.take(self.obs, idx, axis=0, out=batch.obs[0])
+        np.take(self.next_obs, idx, axis=0, out=batch.next_obs[0])
         np.take(self.actions, idx, out=batch.actions)
         np.take(self.rewards, idx, out=batch.rewards)
         np.take(self.not_done, idx, out=batch.not_done)

@@ -34,7 +34,7 @@ import numpy as np
 import yaml
 
 from .checkpoint import atomic_write_bytes
-from .evaluate import wilson_interval
+from .stats import wilson_interval
 from .plots import moving_average, read_metrics
 from .thesis_results import ALIASES, FIGURES, THESIS
 

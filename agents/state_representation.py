@@ -57,19 +57,19 @@ class SRLSettings:
 
     @classmethod
     def from_config(cls, config, image_size: int = 32) -> "SRLSettings":
-        d = SINGLE_FRAME_DEFAULTS if config.camera_frames == 1 else STACK_DEFAULTS
-        channels = 3 if config.camera_frames == 1 else config.camera_frames
+        c = config.camera
+        d = SINGLE_FRAME_DEFAULTS if c.camera_frames == 1 else STACK_DEFAULTS
+        channels = 3 if c.camera_frames == 1 else c.camera_frames
         spec = AutoEncoderSpec(
             image_size=image_size, in_channels=channels,
-            conv_channels=tuple(config.ae_conv_channels) or d["conv"],
-            dense=config.ae_dense, latent=config.ae_latent or d["latent"],
+            conv_channels=tuple(c.ae_conv_channels) or d["conv"], dense=c.ae_dense, latent=c.ae_latent or d["latent"],
         )
         return cls(
-            frames=config.camera_frames, frame_shape=(image_size, image_size, channels), spec=spec,
-            first_update=config.ae_first_update, update_every=config.ae_update_every,
-            updates=config.ae_updates or d["updates"], iterations=config.ae_iterations or d["iterations"],
-            batches=config.ae_batches or d["batches"], batch_size=config.ae_batch_size,
-            learning_rate=config.ae_learning_rate, rare_colour_power=config.ae_rare_colour_power,
+            frames=c.camera_frames, frame_shape=(image_size, image_size, channels), spec=spec,
+            first_update=c.ae_first_update, update_every=c.ae_update_every,
+            updates=c.ae_updates or d["updates"], iterations=c.ae_iterations or d["iterations"],
+            batches=c.ae_batches or d["batches"], batch_size=c.ae_batch_size,
+            learning_rate=c.ae_learning_rate, rare_colour_power=c.ae_rare_colour_power,
         )
 
     @property

@@ -10,7 +10,7 @@ Without ``--address`` a new Ray instance starts inside this process on this mach
 at the same path (a shared file system).
 
 Layout: ``<out>/<experiment>/seed<N>/<task>__<experiment>__<N>__<time>/`` is the run directory
-agents.dqn writes (config.yaml, metrics.csv, checkpoint.pkl, eval.json, ...); the experiment is
+agents.dqn writes (config.yaml, metrics.csv, checkpoint/, eval.json, ...); the experiment is
 the config file's name without ``.yaml``. Started again on the same folder, the sweep skips runs
 whose eval.json exists, continues runs that have a checkpoint from it (``Config.resume``), and
 starts the others afresh. A failing run is retried ``--max-retries`` times (each retry continues
@@ -32,8 +32,9 @@ import time
 import traceback
 from pathlib import Path
 
-from .checkpoint import FILENAME, atomic_write_bytes
-from .config import Config, load_yaml
+from .checkpoint import atomic_write_bytes, exists
+from .config import Config
+from .config_io import load_yaml, replace
 
 SUMMARY = "sweep_summary.json"
 RUN_INFO = "sweep_run.json"
@@ -50,15 +51,15 @@ class RunSpec:
 
     def config(self) -> Config:
         config = load_yaml(self.config_path)
-        return dataclasses.replace(config, name=self.experiment, seed=self.seed, runs_dir=self.seed_dir,
-                                   progress=False, eval_after_training=False, resume=None).validate()
+        return replace(config, name=self.experiment, seed=self.seed, runs_dir=self.seed_dir, progress=False,
+                       eval_after_training=False, resume=None).validate()
 
 
 def find_run_dir(seed_dir: str | Path) -> Path | None:
     """The run directory inside a seed folder (None if there is none yet)."""
     seed_dir = Path(seed_dir)
     found = sorted(p for p in seed_dir.glob("*__*__*__*") if p.is_dir()) if seed_dir.is_dir() else []
-    with_checkpoint = [p for p in found if (p / FILENAME).is_file()]
+    with_checkpoint = [p for p in found if exists(p)]
     if len(with_checkpoint) > 1:
         raise RuntimeError(f"{seed_dir} holds {len(with_checkpoint)} run directories with checkpoints; "
                            "expected one (remove the extra ones)")
@@ -74,7 +75,7 @@ def run_status(seed_dir: str | Path) -> str:
         return "new"
     if (run_dir / "eval.json").is_file():
         return "finished"
-    return "resumable" if (run_dir / FILENAME).is_file() else "new"
+    return "resumable" if exists(run_dir) else "new"
 
 
 def execute(spec: RunSpec) -> dict:
@@ -89,16 +90,16 @@ def execute(spec: RunSpec) -> dict:
     run_dir = find_run_dir(spec.seed_dir)
     if run_dir is not None and (run_dir / "eval.json").is_file():
         return _record(spec, run_dir, "skipped")
-    if run_dir is not None and not (run_dir / FILENAME).is_file():
+    if run_dir is not None and not exists(run_dir):
         shutil.rmtree(run_dir)  # stopped before its first checkpoint: nothing to continue from
         run_dir = None
-    resumed_at = load(run_dir)["episode"] if run_dir is not None else 0
+    resumed_at = load(run_dir, memory=False)["episode"] if run_dir is not None else 0
     if run_dir is not None:
-        config = dataclasses.replace(config, resume=str(run_dir))
+        config = replace(config, resume=str(run_dir))
     t0 = time.perf_counter()
     run_dir = train(config)
     t1 = time.perf_counter()
-    evaluate_as_configured(config, run_dir / FILENAME, verbose=False)
+    evaluate_as_configured(config, run_dir, verbose=False)
     t2 = time.perf_counter()
     info = dict(experiment=spec.experiment, config=spec.config_path, seed=spec.seed, resumed_at_episode=resumed_at,
                 train_s_last_attempt=round(t1 - t0, 2), eval_s=round(t2 - t1, 2), host=os.uname().nodename)

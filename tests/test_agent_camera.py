@@ -13,8 +13,10 @@ import torch
 import agents.dqn as dqn
 from agents import checkpoint as ckpt
 from agents.config import Config
+from agents.config_io import make, replace
 from agents.envs import frame_key
-from agents.evaluate import evaluate, load_policy
+from agents.evaluate import evaluate
+from agents.policy import load_policy
 from agents.state_representation import SRLSettings
 
 CASES = {
@@ -29,7 +31,7 @@ def small(tmp_path, **overrides) -> Config:
                   buffer_size=2000, checkpoint_every=1, random_episodes=2, epsilon_decay_episodes=2,
                   runs_dir=str(tmp_path / "runs"), progress=False, eval_after_training=False, seed=5)
     values.update(overrides)
-    return Config(**values).validate()
+    return make(**values).validate()
 
 
 def encoder_fingerprint(srl) -> float:
@@ -96,16 +98,17 @@ def test_checkpoint_restores_the_auto_encoder_with_the_q_network(camera_run):
     config, run_dir, _, srl, memory = camera_run
     state = ckpt.load(run_dir)
     assert state["episode"] == 6 and state["srl"]["updates_done"] == 2
-    _, env, net, features, _, _ = load_policy(run_dir)
+    policy = load_policy(run_dir)
+    env, features = policy.env, policy.features
     for mine, saved in zip(features.srl.model.state_dict().values(), srl.model.state_dict().values()):
         torch.testing.assert_close(mine, saved, rtol=0, atol=0)
     obs, _ = env.reset(seed=0)
     x = features(obs)
     settings = SRLSettings.from_config(config)
-    assert x.shape == (settings.spec.latent + (16 if config.camera_state else 0),)
-    frame = obs[frame_key(config.camera_frames)]
+    assert x.shape == (settings.spec.latent + (16 if config.camera.camera_state else 0),)
+    frame = obs[frame_key(config.camera.camera_frames)]
     np.testing.assert_allclose(x[: settings.spec.latent], srl.encode(frame), rtol=1e-5, atol=1e-5)
-    assert net(x).shape == (3,)
+    assert policy.q_values(obs).shape == (3,)
     env.close()
 
 
@@ -113,7 +116,7 @@ def test_resume_continues_with_the_restored_auto_encoder(camera_run, tmp_path):
     config, run_dir, _, _, _ = camera_run
     copy = tmp_path / "run"
     shutil.copytree(run_dir, copy)
-    resumed = dqn.train(Config(**{**vars(config), "episodes": 7, "resume": str(copy)}))
+    resumed = dqn.train(replace(config, episodes=7, resume=str(copy)))
     state = ckpt.load(resumed)
     assert state["episode"] == 7 and state["srl"]["updates_done"] == 2
     assert len(metric_rows(resumed)) == 7
@@ -130,7 +133,7 @@ def test_test_phase_writes_latent_maps(camera_run):
 
 
 def test_recording_of_a_camera_checkpoint_shows_latent_and_reconstruction(camera_run, tmp_path):
-    from dynnav_tasks.record import Args, main
+    from agents.record import Args, main
 
     from test_recording import read_back
 
@@ -155,3 +158,29 @@ def test_camera_settings_errors_name_the_field(tmp_path):
     assert not (tmp_path / "runs").exists()  # no run directory for a run that never started
     with pytest.raises(ValueError, match="apply to dynnav tasks only"):
         dqn.train(small(tmp_path, task="CartPole-v1", camera_frames=1))
+
+
+def test_pixel_agent_trains_its_encoder_from_the_td_loss(tmp_path):
+    """camera_input pixels: a conv Q-network on the frames (+ state parts) learns from the first
+    episodes, with no auto-encoder; its checkpoint tests and resumes like any other."""
+    from agents.networks import PixelQNetwork
+
+    config = small(tmp_path, task="DynNav-VisualMovingTargets-v1", camera_frames=2, camera_input="pixels",
+                   camera_state=("lasers",), episodes=3, random_episodes=0, learning_starts=16, buffer_size=500,
+                   checkpoint_every=3)
+    run_dir = dqn.train(config)
+    rows = metric_rows(run_dir)
+    assert all(r["loss"] != "" for r in rows[1:]) and float(rows[0]["epsilon"]) < 1.0
+    assert not (run_dir / "srl_loss.csv").exists()
+    state = ckpt.load(run_dir)
+    assert state["input_shapes"] == [[32, 32, 2], [16]] and state["srl"] is None
+    torch.manual_seed(config.seed)  # the initial weights, as the run built them
+    before = PixelQNetwork((32, 32, 2), 16, 3, shift=config.camera.pixel_shift).state_dict()
+    policy = load_policy(run_dir)
+    assert isinstance(policy.q_network, PixelQNetwork)
+    trained = policy.q_network.state_dict()
+    assert any(not torch.equal(trained[k], before[k]) for k in before if k.startswith("encoder"))
+    policy.env.close()
+    assert evaluate(run_dir, episodes=1, picture=False, verbose=False)["episodes"] == 1
+    resumed = dqn.train(replace(config, episodes=4, resume=str(run_dir)))
+    assert ckpt.load(resumed)["episode"] == 4

@@ -4,7 +4,8 @@ from pathlib import Path
 
 import pytest
 
-from agents.config import Config, load_yaml, parse_args
+from agents.config import Config, ScheduleConfig
+from agents.config_io import get, load_yaml, make, parse_args, to_yaml_dict
 from agents.envs import make_env
 
 CONFIGS = Path(__file__).resolve().parents[1] / "configs"
@@ -18,13 +19,13 @@ def write(tmp_path, text: str) -> str:
 
 def test_thesis_configs_hold_the_thesis_settings():
     c52 = load_yaml(CONFIGS / "moving_target_5_2.yaml")
-    assert (c52.task, c52.episodes, c52.learning_rate, c52.epsilon_decay_episodes, c52.reward_mode) == (
-        "DynNav-MovingTarget-v1", 2000, 0.003, 1000, "distance")
+    names = ("task", "episodes", "learning_rate", "epsilon_decay_episodes", "reward_mode")
+    assert tuple(get(c52, n) for n in names) == ("DynNav-MovingTarget-v1", 2000, 0.003, 1000, "distance")
     c53 = load_yaml(CONFIGS / "moving_obstacles_5_3.yaml")
-    assert (c53.task, c53.episodes, c53.learning_rate, c53.epsilon_decay_episodes, c53.reward_mode) == (
-        "DynNav-MovingObstacles-v1", 4000, 0.001, 2000, "distance")
+    assert tuple(get(c53, n) for n in names) == ("DynNav-MovingObstacles-v1", 4000, 0.001, 2000, "distance")
     for c in (c52, c53):
-        assert (c.gamma, c.batch_size, c.hidden_sizes, c.epsilon_start, c.epsilon_end) == (0.97, 128, (128, 128), 0.8, 0.05)
+        assert (c.dqn.gamma, c.dqn.batch_size, c.dqn.hidden_sizes, c.schedule.epsilon_start, c.schedule.epsilon_end) == (
+            0.97, 128, (128, 128), 0.8, 0.05)
     for path in CONFIGS.rglob("*.yaml"):
         load_yaml(path).validate()
 
@@ -32,7 +33,7 @@ def test_thesis_configs_hold_the_thesis_settings():
 def test_command_line_overrides_yaml(tmp_path):
     path = write(tmp_path, "episodes: 7\nlearning_rate: 0.01\nhidden_sizes: [64, 32]\n")
     c = parse_args(["--config", path, "--learning-rate", "0.002", "--seed", "5"])
-    assert (c.episodes, c.learning_rate, c.seed, c.hidden_sizes) == (7, 0.002, 5, (64, 32))
+    assert (c.episodes, c.schedule.learning_rate, c.seed, c.dqn.hidden_sizes) == (7, 0.002, 5, (64, 32))
     assert parse_args([]) == Config()
 
 
@@ -87,18 +88,18 @@ def test_unknown_task_and_unsuitable_envs_are_clear_errors():
 def test_epsilon_and_learning_rate_schedules():
     from agents.schedules import epsilon_at, learning_rate_at
 
-    c = Config(random_episodes=10, epsilon_start=0.8, epsilon_end=0.05, epsilon_decay_episodes=100)
+    c = ScheduleConfig(random_episodes=10, epsilon_start=0.8, epsilon_end=0.05, epsilon_decay_episodes=100)
     assert [epsilon_at(c, e) for e in (0, 9)] == [1.0, 1.0]
     assert epsilon_at(c, 10) == pytest.approx(0.8)
     assert epsilon_at(c, 60) == pytest.approx(0.425)
     assert epsilon_at(c, 110) == epsilon_at(c, 5000) == pytest.approx(0.05)
-    c = Config(epsilon_schedule="exponential", epsilon_start=0.8, epsilon_end=0.05, epsilon_decay_episodes=100)
+    c = ScheduleConfig(epsilon_schedule="exponential", epsilon_start=0.8, epsilon_end=0.05, epsilon_decay_episodes=100)
     assert epsilon_at(c, 50) == pytest.approx((0.8 * 0.05) ** 0.5)
-    assert learning_rate_at(Config(learning_rate=0.003), 1500) == 0.003  # constant
-    lin = Config(lr_schedule="linear", learning_rate=0.003, learning_rate_end=0.0003, lr_decay_episodes=1000)
+    assert learning_rate_at(ScheduleConfig(learning_rate=0.003), 1500) == 0.003  # constant
+    lin = ScheduleConfig(lr_schedule="linear", learning_rate=0.003, learning_rate_end=0.0003, lr_decay_episodes=1000)
     assert learning_rate_at(lin, 500) == pytest.approx(0.00165)
     assert learning_rate_at(lin, 3000) == pytest.approx(0.0003)
-    exp = Config(lr_schedule="exponential", learning_rate=0.003, learning_rate_end=0.0003, lr_decay_episodes=1000)
+    exp = ScheduleConfig(lr_schedule="exponential", learning_rate=0.003, learning_rate_end=0.0003, lr_decay_episodes=1000)
     assert learning_rate_at(exp, 500) == pytest.approx(0.003 / 10 ** 0.5)
 
 
@@ -113,3 +114,56 @@ def test_observation_scaling_uses_the_space_bounds():
     np.testing.assert_allclose(scale(np.array([0.0, 4.5, 7.0], np.float32)), [-1.0, 1.0, 7.0])
     np.testing.assert_allclose(scale(np.array([2.5, 1.25, -3.0], np.float32)), [0.0, 0.0, -3.0])
     np.testing.assert_allclose(ObsScaler(space, enabled=False)(np.array([5.0, 4.5, 1.0])), [5.0, 4.5, 1.0])
+
+
+def test_grouped_and_flat_yaml_give_the_same_config(tmp_path):
+    grouped = write(tmp_path, "episodes: 7\ndqn: {batch_size: 32, hidden_sizes: [64]}\nschedule: {learning_rate: 0.01}\n")
+    flat = tmp_path / "flat.yaml"
+    flat.write_text("episodes: 7\nbatch_size: 32\nhidden_sizes: [64]\nlearning_rate: 0.01\n")
+    assert load_yaml(grouped) == load_yaml(flat) == make(episodes=7, batch_size=32, hidden_sizes=(64,), learning_rate=0.01)
+    saved = tmp_path / "saved.yaml"
+    saved.write_text(__import__("yaml").safe_dump(to_yaml_dict(load_yaml(flat))))
+    assert load_yaml(saved) == load_yaml(flat)  # a run's config.yaml reads back the same
+    with pytest.raises(ValueError, match=r"unknown field 'dqn.learning_rate'. It belongs in the 'schedule' group"):
+        load_yaml(write(tmp_path, "dqn: {learning_rate: 0.01}\n"))
+
+
+def test_help_lists_documented_flags_by_group(capsys):
+    with pytest.raises(SystemExit):
+        parse_args(["--help"])
+    out = capsys.readouterr().out
+    for flag in ("--learning-rate", "--camera-input", "--q-network", "--device", "--eval-episodes", "--task-kwargs"):
+        assert flag in out, flag
+    assert "where the Q-network and its update run" in out
+
+
+def test_a_config_file_of_binary_junk_names_the_file(tmp_path):
+    junk = tmp_path / "junk.yaml"
+    junk.write_bytes(bytes(range(256)) * 4)
+    with pytest.raises(ValueError, match=f"config file '{junk}' is not a text"):
+        parse_args(["--config", str(junk)])
+
+
+def test_batch_larger_than_the_memory_is_an_error_before_any_run():
+    with pytest.raises(ValueError, match=r"batch_size \(64\) is larger than buffer_size \(32\)"):
+        parse_args(["--batch-size", "64", "--buffer-size", "32"])
+
+
+def test_eval_refuses_training_settings_it_would_ignore():
+    with pytest.raises(ValueError, match="--task cannot change them"):
+        parse_args(["--eval", "--checkpoint", "runs/x", "--task", "CartPole-v1"])
+    with pytest.raises(ValueError, match="--learning-rate, --normalize-obs cannot change them"):
+        parse_args(["--eval", "--checkpoint", "runs/x", "--learning-rate", "0.1", "--no-normalize-obs"])
+    c = parse_args(["--eval", "--checkpoint", "runs/x", "--eval-episodes", "3", "--no-eval-picture"])
+    assert (c.test.eval_episodes, c.test.eval_picture) == (3, False)
+
+
+def test_integer_task_options_stay_integers(tmp_path):
+    c = parse_args(["--task-kwargs", "camera_size", "32", "turn_forward_step", "0.05"])
+    assert c.env.task_kwargs == {"camera_size": 32, "turn_forward_step": 0.05}
+    assert type(c.env.task_kwargs["camera_size"]) is int
+    env = make_env("DynNav-VisualStaticTarget-v1", task_kwargs={"camera_size": 16}, camera_frames=1)
+    try:
+        assert env.observation_space["rgb"].shape == (16, 16, 3)
+    finally:
+        env.close()

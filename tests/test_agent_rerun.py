@@ -5,8 +5,8 @@ import pytest
 from agents.config import Config
 from agents.dqn import main, train
 from agents.evaluate import evaluate
-from dynnav_tasks.record import Args
-from dynnav_tasks.record import main as record_main
+from agents.record import Args
+from agents.record import main as record_main
 from test_agent_training import small as small_run
 from test_recording import column, read_back
 

@@ -3,17 +3,22 @@
 import csv
 import json
 import pickle
+import shutil
 
 import gymnasium as gym
 import numpy as np
 import pytest
 
+import torch
+
 from agents import checkpoint as ckpt
-from agents.config import Config, load_yaml
+from agents.config import Config
+from agents.config_io import load_yaml, make
 from agents.dqn import main, train
-from agents.evaluate import evaluate, wilson_interval
-from agents.qnetwork import QLearner
-from agents.replay import ReplayMemory
+from agents.evaluate import evaluate
+from agents.networks import MLPQNetwork
+from agents.policy import load_policy
+from agents.stats import wilson_interval
 
 TIMING = {"steps_per_s", "wall_time_s"}
 
@@ -24,7 +29,7 @@ def small(tmp_path, **overrides) -> Config:
                   target_update_interval=50, epsilon_decay_episodes=4, runs_dir=str(tmp_path / "runs"),
                   progress=False, eval_after_training=False, seed=3)
     values.update(overrides)
-    return Config(**values).validate()
+    return make(**values).validate()
 
 
 def rows(run_dir):
@@ -44,31 +49,48 @@ def test_same_seed_same_losses_and_returns(tmp_path):
 def test_run_directory_contents(tmp_path):
     run = train(small(tmp_path, name="files"))
     assert run.name.startswith("DynNav-MovingTarget-v1__files__3__")
-    for name in ("config.yaml", "metrics.csv", "checkpoint.pkl", "reward.png", "loss.png"):
+    for name in ("config.yaml", "metrics.csv", "checkpoint/meta.json", "checkpoint/weights.pt", "checkpoint/memory.npz",
+                 "reward.png", "loss.png"):
         assert (run / name).is_file(), name
     assert load_yaml(run / "config.yaml") == small(tmp_path, name="files")
     assert [int(r["episode"]) for r in rows(run)] == list(range(6))
-    assert not list(run.glob(".*tmp*")), "temporary files left behind"
+    assert not list(run.glob(".*")), "temporary files left behind"
 
 
-def test_checkpoint_round_trip(tmp_path):
+def test_checkpoint_opens_with_standard_tools(tmp_path):
+    """Weights with torch.load(weights_only=True), metadata with json, the replay memory with numpy."""
     run = train(small(tmp_path))
+    meta = json.loads((run / "checkpoint" / "meta.json").read_text())
+    assert (meta["format"], meta["version"], meta["episode"], meta["config"]["task"]) == (
+        ckpt.FORMAT, ckpt.VERSION, 6, "DynNav-MovingTarget-v1")
+    assert meta["global_step"] == sum(int(r["length"]) for r in rows(run))
+    weights = torch.load(run / "checkpoint" / "weights.pt", weights_only=True)
+    q = MLPQNetwork(20, 3, (32, 32))
+    q.load_state_dict({k.removeprefix("learner.q."): v for k, v in weights.items() if k.startswith("learner.q.")})
+    policy = load_policy(run)
+    obs, _ = policy.env.reset(seed=0)
+    with torch.no_grad():
+        mine = q(torch.from_numpy(policy.features(obs))[None])[0].numpy()
+    np.testing.assert_allclose(mine, policy.q_values(obs), rtol=1e-6)
+    policy.env.close()
+    with np.load(run / "checkpoint" / "memory.npz", allow_pickle=False) as memory:
+        assert len(memory["memory.actions"]) == meta["global_step"]
     state = ckpt.load(run)
-    assert (state["episode"], state["config"]["episodes"]) == (6, 6)
-    assert state["global_step"] == sum(int(r["length"]) for r in rows(run))
-    learner = QLearner(state["obs_dim"], state["n_actions"], (32, 32), 32, rng=np.random.default_rng(0))
-    learner.load_state_dict(state["learner"])
-    memory = ReplayMemory(5000, state["obs_dim"])
-    memory.load_state_dict(state["memory"])
-    again = dict(state, learner=learner.state_dict(), memory=memory.state_dict())
-    ckpt.save(tmp_path / "copy.pkl", again)
-    copy = ckpt.load(tmp_path / "copy.pkl")
-    for key in ("q", "target", "adam_m", "adam_v"):
-        np.testing.assert_array_equal(copy["learner"][key], state["learner"][key])
-    assert copy["learner"]["adam_step"] == state["learner"]["adam_step"] > 0
-    np.testing.assert_array_equal(copy["memory"]["obs"], state["memory"]["obs"])
-    assert len(memory) == state["global_step"]
-    assert copy["rng"] == state["rng"]
+    assert state["learner"]["optimizer"]["state"][0]["step"] > 0
+    assert state["rng"] == meta["rng"]
+
+
+def test_leftovers_of_killed_writes_are_cleaned_up(tmp_path):
+    run = train(small(tmp_path, episodes=3))
+    (run / ".checkpoint.tmp-dead").mkdir()
+    (run / ".checkpoint.tmp-dead" / "weights.pt").write_bytes(b"half")
+    (run / ".config.yaml.x1.tmp").write_text("half")
+    # killed between moving the old checkpoint aside and renaming the new one into place
+    (run / "checkpoint").rename(run / ".checkpoint.old-1234")
+    assert ckpt.load(run)["episode"] == 3  # put back
+    main(["--resume", str(run), "--episodes", "4", "--no-progress", "--no-eval-after-training"])
+    assert ckpt.load(run)["episode"] == 4
+    assert sorted(p.name for p in run.iterdir() if p.name.startswith(".")) == []
 
 
 def test_resume_continues_where_the_stopped_run_left_off(tmp_path):
@@ -84,23 +106,65 @@ def test_resume_continues_where_the_stopped_run_left_off(tmp_path):
     assert ckpt.load(stopped)["episode"] == 6
 
 
-def test_missing_and_corrupt_checkpoints_are_clear_errors(tmp_path, capsys):
+def test_missing_and_corrupt_checkpoints_are_clear_errors(tmp_path):
     with pytest.raises(ckpt.CheckpointError, match="no checkpoint"):
-        ckpt.load(tmp_path / "nothing.pkl")
+        ckpt.load(tmp_path / "nothing")
     run = train(small(tmp_path, episodes=3))
-    data = (run / "checkpoint.pkl").read_bytes()
-    (run / "checkpoint.pkl").write_bytes(data[: len(data) // 2])
-    with pytest.raises(ckpt.CheckpointError, match="corrupt"):
+    good = tmp_path / "good"
+    shutil.copytree(run / "checkpoint", good)
+
+    def broken(name, data: bytes):
+        shutil.rmtree(run / "checkpoint")
+        shutil.copytree(good, run / "checkpoint")
+        (run / "checkpoint" / name).write_bytes(data)
+
+    weights = (good / "weights.pt").read_bytes()
+    broken("weights.pt", weights[: len(weights) // 2])
+    with pytest.raises(ckpt.CheckpointError, match=r"weights.pt' is corrupt"):
         ckpt.load(run)
-    with pytest.raises(SystemExit, match="corrupt"):
+    with pytest.raises(SystemExit, match="weights.pt' is corrupt"):
         main(["--resume", str(run), "--no-progress"])
-    (tmp_path / "other.pkl").write_bytes(pickle.dumps({"weights": [1, 2]}))
+    broken("meta.json", b'{"format": "dynnav-dqn')
+    with pytest.raises(ckpt.CheckpointError, match=r"meta.json' is corrupt"):
+        ckpt.load(run)
+    broken("memory.npz", b"PK\x03\x04 not a zip")
+    with pytest.raises(ckpt.CheckpointError, match=r"memory.npz' is corrupt"):
+        ckpt.load(run)
+    tensors = torch.load(good / "weights.pt", weights_only=True)
+    tensors["learner.q.layers.0.weight"][0, 0] = float("nan")
+    torch.save(tensors, tmp_path / "nan.pt")
+    broken("weights.pt", (tmp_path / "nan.pt").read_bytes())
+    with pytest.raises(ckpt.CheckpointError, match="'learner.q.layers.0.weight' holds non-finite values"):
+        ckpt.load(run)
+    meta = json.loads((good / "meta.json").read_text())
+    broken("meta.json", json.dumps(dict(meta, version=1)).encode())
+    with pytest.raises(ckpt.CheckpointError, match="format version 1"):
+        ckpt.load(run)
+    broken("meta.json", json.dumps({"weights": [1, 2]}).encode())
     with pytest.raises(ckpt.CheckpointError, match="not a dynnav DQN checkpoint"):
-        ckpt.load(tmp_path / "other.pkl")
+        ckpt.load(run)
+    old_run = tmp_path / "old_run"
+    old_run.mkdir()
+    (old_run / "checkpoint.pkl").write_bytes(pickle.dumps({"format": "dynnav-dqn-checkpoint", "version": 1}))
+    for path in (old_run, old_run / "checkpoint.pkl"):
+        with pytest.raises(ckpt.CheckpointError, match="older dynnav version .* never unpickles"):
+            ckpt.load(path)
     with pytest.raises(SystemExit, match="no checkpoint"):
         main(["--eval", "--checkpoint", str(tmp_path / "missing"), "--no-eval-picture"])
     with pytest.raises(SystemExit, match="does not exist"):
         main(["--resume", str(tmp_path / "no_run")])
+
+
+def test_resume_with_another_task_fails_before_writing_anything(tmp_path):
+    run = train(small(tmp_path, episodes=3))
+    before = {p.name: p.read_bytes() for p in run.iterdir() if p.is_file()}
+    with pytest.raises(SystemExit, match=r"--task 'DynNav-MovingObstacles-v1' \(the run: 'DynNav-MovingTarget-v1'\)"):
+        main(["--resume", str(run), "--task", "DynNav-MovingObstacles-v1", "--no-progress"])
+    with pytest.raises(SystemExit, match=r"--hidden-sizes"):
+        main(["--resume", str(run), "--hidden-sizes", "64", "--no-progress"])
+    assert {p.name: p.read_bytes() for p in run.iterdir() if p.is_file()} == before
+    main(["--resume", str(run), "--episodes", "4", "--no-progress", "--no-eval-after-training"])  # still resumable
+    assert ckpt.load(run)["episode"] == 4
 
 
 def test_wilson_interval():
@@ -113,7 +177,7 @@ def test_wilson_interval():
 
 def test_test_phase_reports_and_writes_results(tmp_path):
     run = train(small(tmp_path, episodes=3))
-    summary = evaluate(run / "checkpoint.pkl", episodes=5, picture=False, verbose=False)
+    summary = evaluate(run / "checkpoint", episodes=5, picture=False, verbose=False)
     result = json.loads((run / "eval.json").read_text())
     assert result["summary"] == summary and len(result["episodes"]) == 5
     assert [e["seed"] for e in result["episodes"]] == [1_000_000 + i for i in range(5)]
@@ -166,9 +230,9 @@ def test_terminations_stop_bootstrapping_and_timeouts_do_not(tmp_path):
     common = dict(episodes=6, learning_starts=8, batch_size=8, hidden_sizes=(8,), checkpoint_every=6,
                   runs_dir=str(tmp_path), progress=False, eval_after_training=False, epsilon_start=1.0,
                   normalize_obs=False)
-    memory = ckpt.load(train(Config(task="test/CorridorNoGoal-v0", **common)))["memory"]
+    memory = ckpt.load(train(make(task="test/CorridorNoGoal-v0", **common)))["memory"]
     assert memory["size"] == 6 * 8 and memory["not_done"].min() == 1.0
-    memory = ckpt.load(train(Config(task="test/Corridor-v0", **common)))["memory"]
+    memory = ckpt.load(train(make(task="test/Corridor-v0", **common)))["memory"]
     ended = memory["not_done"] == 0.0
     assert ended.any()
     np.testing.assert_array_equal(memory["next_obs"][ended, 0], 4.0)  # exactly the steps onto the goal
@@ -179,7 +243,7 @@ def test_trajectory_picture(tmp_path):
     """The test trajectories are drawn on the task's own top-down render (about 15 s: the first render)."""
     from PIL import Image
 
-    from agents.evaluate import OUTCOME_COLORS
+    from agents.eval_report import OUTCOME_COLORS
 
     run = train(small(tmp_path, episodes=2))
     evaluate(run, episodes=4, picture=True, verbose=False)
@@ -194,3 +258,21 @@ def test_trajectory_picture(tmp_path):
     for outcome in absent:
         assert (np.abs(arena - np.array(OUTCOME_COLORS[outcome])).sum(axis=2) == 0).sum() == 0
     assert img.reshape(-1, 3).std(axis=0).min() > 10  # a real render under the paths, not a blank canvas
+
+
+def test_a_users_q_network_named_in_the_config_trains_and_reloads(tmp_path):
+    """q_network: 'package.module:factory' plugs any module in; here the dueling example learns the corridor."""
+    from agents.networks import DuelingMLP
+
+    config = make(task="test/Corridor-v0", q_network="agents.networks:dueling_mlp", episodes=40, learning_starts=16,
+                  batch_size=16, checkpoint_every=40, target_update_interval=20, epsilon_start=1.0, epsilon_end=0.1,
+                  epsilon_decay_episodes=20, learning_rate=0.003, runs_dir=str(tmp_path), progress=False,
+                  eval_after_training=False, normalize_obs=False)
+    run = train(config)
+    policy = load_policy(run)
+    assert isinstance(policy.q_network, DuelingMLP)
+    policy.env.close()
+    summary = evaluate(run, episodes=3, verbose=False)
+    assert summary["success_rate"] == 1.0 and summary["avg_steps_success"] == 4  # straight to the goal
+    with pytest.raises(SystemExit, match="q_network 'agents.networks:nothing': agents.networks has no function"):
+        main(["--task", "test/Corridor-v0", "--q-network", "agents.networks:nothing", "--runs-dir", str(tmp_path)])

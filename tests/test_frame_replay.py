@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from agents.frame_replay import FrameReplay
-from agents.qnetwork import Batch
+from agents.learner import Batch
 
 
 def frame(v: int) -> np.ndarray:
@@ -35,15 +35,15 @@ def test_one_frame_per_observation_and_no_transition_across_episodes():
     assert memory.has_next[:7].tolist() == [True, True, True, False, True, True, False]
     rng = np.random.default_rng(0)
     memory.latents[:7] = np.arange(14, dtype=np.float32).reshape(7, 2)
-    batch = Batch(64, obs_dim=3)
+    batch = Batch(64, [((3,), np.float32)])
     memory.sample_into(batch, rng)
-    seen = {(int(o), int(n)) for o, n in zip(batch.obs[:, 2], batch.next_obs[:, 2])}
+    seen = {(int(o), int(n)) for o, n in zip(batch.obs[0][:, 2], batch.next_obs[0][:, 2])}
     assert seen <= set(pairs) and len(seen) == 5
     # [latent | state]: the latent of the slot the state came from
-    slot = batch.obs[:, 2].astype(int)
-    np.testing.assert_array_equal(batch.obs[:, :2], memory.latents[slot])
-    np.testing.assert_array_equal(batch.rewards, batch.obs[:, 2])
-    terminal = batch.next_obs[:, 2] == 3  # the first episode ended on observation 3
+    slot = batch.obs[0][:, 2].astype(int)
+    np.testing.assert_array_equal(batch.obs[0][:, :2], memory.latents[slot])
+    np.testing.assert_array_equal(batch.rewards, batch.obs[0][:, 2])
+    terminal = batch.next_obs[0][:, 2] == 3  # the first episode ended on observation 3
     assert np.all(batch.not_done[terminal] == 0) and np.all(batch.not_done[~terminal & (slot != 5)] == 1)
 
 
@@ -52,10 +52,21 @@ def test_wrapping_drops_the_overwritten_transitions():
     pairs = fill(memory, [3, 3])  # 8 observations in 5 slots: the last 5 survive (values 3..7)
     assert memory.size == 5
     assert sorted(int(f[0, 0, 0]) for f in memory.frames) == [3, 4, 5, 6, 7]
-    batch = Batch(200, obs_dim=2)
+    batch = Batch(200, [((2,), np.float32)])
     memory.sample_into(batch, np.random.default_rng(1))
-    seen = {(int(o), int(n)) for o, n in zip(batch.obs[:, 1], batch.next_obs[:, 1])}
+    seen = {(int(o), int(n)) for o, n in zip(batch.obs[0][:, 1], batch.next_obs[0][:, 1])}
     assert seen == {p for p in pairs if p[0] >= 4}  # 3 ended episode 1; (4,5), (5,6), (6,7) remain
+
+
+def test_pixel_minibatches_hold_frames_and_state_parts():
+    memory = FrameReplay(20, (4, 4, 3), state_dim=1, latent_dim=0)
+    pairs = fill(memory, [3, 2])
+    batch = Batch(64, [((4, 4, 3), np.uint8), ((1,), np.float32)])
+    memory.sample_frames_into(batch, np.random.default_rng(0))
+    frames, next_frames = batch.obs[0][:, 0, 0, 0].astype(int), batch.next_obs[0][:, 0, 0, 0].astype(int)
+    assert set(zip(frames.tolist(), next_frames.tolist())) == set(pairs)  # every transition, none across episodes
+    np.testing.assert_array_equal(batch.obs[1][:, 0], frames)  # the state parts of the same slot
+    np.testing.assert_array_equal(batch.rewards, frames)
 
 
 def test_refresh_latents_and_checkpoint_round_trip():
@@ -80,5 +91,5 @@ def test_bad_input_is_a_clear_error():
         memory.start(np.zeros((4, 4, 3), np.float32), np.zeros(1))
     with pytest.raises(ValueError, match="no complete transition"):
         memory.start(frame(0), np.zeros(1))
-        memory.sample_into(Batch(2, 2), np.random.default_rng(0))
+        memory.sample_into(Batch(2, [((2,), np.float32)]), np.random.default_rng(0))
     assert memory.nbytes >= 10 * 4 * 4 * 3

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 import rerun.chunk as rc
 
-from dynnav_tasks.record import Args, main, record_episodes
+from agents.record import Args, main, record_episodes
 from dynnav_tasks.recording import Recorder
 
 

@@ -83,7 +83,7 @@ def test_sweep_runs_every_experiment_and_the_report_shows_them(sweep, tmp_path):
 def test_restarted_sweep_skips_finished_runs_and_resumes_the_others(sweep):
     configs, out, _ = sweep
     run_a, run_b = _run_dir(out, A), _run_dir(out, B)
-    b_checkpoint = (run_b / "checkpoint.pkl").stat().st_mtime_ns
+    b_checkpoint = (run_b / "checkpoint" / "meta.json").stat().st_mtime_ns
     # A: test phase missing and two more episodes wanted -> continued from its checkpoint
     (run_a / "eval.json").unlink()
     Path(configs[0]).write_text(TINY.format(gamma=0.1, episodes=6))
@@ -96,7 +96,7 @@ def test_restarted_sweep_skips_finished_runs_and_resumes_the_others(sweep):
     episodes = [line.split(",")[0] for line in (run_a / "metrics.csv").read_text().splitlines()[1:]]
     assert episodes == [str(i) for i in range(6)]
     assert json.loads((run_a / "eval.json").read_text())["trained_episodes"] == 6
-    assert (run_b / "checkpoint.pkl").stat().st_mtime_ns == b_checkpoint
+    assert (run_b / "checkpoint" / "meta.json").stat().st_mtime_ns == b_checkpoint
 
 
 def test_a_failing_run_is_reported_with_its_error(tmp_path, local_ray):

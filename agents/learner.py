@@ -1,0 +1,174 @@
+"""The DQN / Double DQN update for any Q-network module.
+
+``DQNLearner`` holds the online network (a ``torch.nn.Module``), its target copy and Adam, and
+makes one gradient step on a minibatch:
+
+    y    = r + gamma * (1 - terminated) * Q_target(s', a*)
+           a* = argmax_a Q_target(s', a)  (DQN, Alg. 1)   or   argmax_a Q(s', a)  (Double DQN, App. A)
+    loss = mean of (Q(s, a) - y)^2  (mse)   or   smooth L1 with beta 1  (huber)
+
+then optional clipping of the gradient's global norm and one Adam step. The target network
+is copied every C steps (``update_target()``) or moved by ``tau`` (``update_target(tau)``).
+A module takes the observation's inputs (one tensor for a state vector; frames and state parts
+for pixel runs), each with a leading batch dimension, and returns (batch, actions).
+
+For the default MLP on the CPU the same update also exists written directly in numpy on the
+module's own parameters (``agents.fast_mlp``), about twice as fast at the study's sizes;
+``accelerate=False`` always uses torch.
+"""
+
+from __future__ import annotations
+
+import copy
+from typing import Sequence
+
+import numpy as np
+import torch
+from torch import nn
+from torch.nn import functional as F
+
+LOSSES = ("mse", "huber")
+
+
+class Batch:
+    """Preallocated minibatch tensors, with numpy views (``obs``, ``actions``, ...) that the replay
+    memories fill in place.
+
+    ``inputs`` lists each input's (shape, numpy dtype) without the batch dimension: one float32
+    vector for state runs, a uint8 frame and float32 state parts for pixel runs."""
+
+    def __init__(self, batch_size: int, inputs: Sequence[tuple[tuple[int, ...], type]]):
+        self.size = int(batch_size)
+        self.inputs = [(tuple(int(v) for v in shape), np.dtype(dtype)) for shape, dtype in inputs]
+
+        def new(shape, dtype):
+            return torch.from_numpy(np.zeros((self.size, *shape), dtype=dtype))
+
+        self.obs_t = [new(s, d) for s, d in self.inputs]
+        self.next_obs_t = [new(s, d) for s, d in self.inputs]
+        self.actions_t, self.rewards_t, self.not_done_t = new((), np.int64), new((), np.float32), new((), np.float32)
+        self.obs = [t.numpy() for t in self.obs_t]
+        self.next_obs = [t.numpy() for t in self.next_obs_t]
+        self.actions, self.rewards = self.actions_t.numpy(), self.rewards_t.numpy()
+        self.not_done = self.not_done_t.numpy()
+        """1 - terminated: a truncated (timed-out) transition still bootstraps"""
+
+
+def make_adam(module: nn.Module, learning_rate: float) -> torch.optim.Adam:
+    """Adam with its state created now (zero moments, step 0), so that it can be shared and saved
+    before the first step; fused where every parameter is a float tensor on the CPU or a GPU."""
+    params = list(module.parameters())
+    fused = all(p.is_floating_point() and p.device.type in ("cpu", "cuda") for p in params)
+    optimizer = torch.optim.Adam(params, lr=learning_rate, fused=fused)
+    for p in params:
+        optimizer.state[p] = dict(step=torch.zeros((), dtype=torch.float32, device=p.device),
+                                  exp_avg=torch.zeros_like(p, memory_format=torch.preserve_format),
+                                  exp_avg_sq=torch.zeros_like(p, memory_format=torch.preserve_format))
+    return optimizer
+
+
+class DQNLearner:
+    """Online and target networks, Adam, and the (Double) DQN update on one ``Batch``."""
+
+    def __init__(self, q_network: nn.Module, batch: Batch, gamma: float = 0.97, double: bool = False,
+                 loss: str = "mse", max_grad_norm: float = 0.0, learning_rate: float = 1e-3,
+                 device: str = "cpu", accelerate: bool = True):
+        if loss not in LOSSES:
+            raise ValueError(f"unknown loss {loss!r}; valid losses: {', '.join(LOSSES)}")
+        self.device = torch.device(device)
+        self.q = q_network.to(self.device)
+        self.target = copy.deepcopy(self.q).requires_grad_(False)
+        self.optimizer = make_adam(self.q, learning_rate)
+        self.gamma, self.double, self.loss, self.max_grad_norm = gamma, double, loss, max_grad_norm
+        self.batch = batch
+        self.fast = None
+        if accelerate:
+            from .fast_mlp import NumpyMLPUpdate
+
+            if NumpyMLPUpdate.supports(self):
+                self.fast = NumpyMLPUpdate(self)
+
+    @property
+    def learning_rate(self) -> float:
+        return float(self.optimizer.param_groups[0]["lr"])
+
+    @learning_rate.setter
+    def learning_rate(self, value: float) -> None:
+        for group in self.optimizer.param_groups:
+            group["lr"] = float(value)
+
+    # ------------------------------------------------------------------ acting
+    def q_values(self, x) -> np.ndarray:
+        """Q-values (actions,) of one observation's input (an array, or a tuple of arrays)."""
+        if self.fast is not None:
+            return self.fast.q_values(x)
+        inputs = x if isinstance(x, tuple) else (x,)
+        if self.q.training:
+            self.q.eval()
+        with torch.no_grad():
+            tensors = [torch.as_tensor(np.asarray(v))[None].to(self.device) for v in inputs]
+            return self.q(*tensors)[0].float().cpu().numpy()
+
+    def act(self, x) -> int:
+        """The greedy action for one observation's input."""
+        return int(np.argmax(self.q_values(x)))
+
+    # ------------------------------------------------------------------ the update
+    def _tensors(self):
+        b = self.batch
+        move = (lambda t: t.to(self.device, non_blocking=True)) if self.device.type != "cpu" else (lambda t: t)
+        return ([move(t) for t in b.obs_t], [move(t) for t in b.next_obs_t], move(b.actions_t),
+                move(b.rewards_t), move(b.not_done_t))
+
+    def td_target(self, next_obs, rewards, not_done) -> torch.Tensor:
+        """r + gamma * (1 - terminated) * Q_target(s', a*), without gradient."""
+        with torch.no_grad():
+            q_next = self.target(*next_obs)
+            if self.double:
+                best = q_next.gather(1, self.q(*next_obs).argmax(1, keepdim=True)).squeeze(1)
+            else:
+                best = q_next.max(1).values
+            return rewards + self.gamma * not_done * best
+
+    def update(self) -> float:
+        """One gradient step on ``self.batch`` (fill it first); returns the loss."""
+        if self.fast is not None:
+            return self.fast.update()
+        obs, next_obs, actions, rewards, not_done = self._tensors()
+        if not self.q.training:  # training mode: e.g. the pixel network's random shifts
+            self.q.train()
+            self.target.train()
+        y = self.td_target(next_obs, rewards, not_done)
+        q = self.q(*obs).gather(1, actions[:, None]).squeeze(1)
+        loss = F.mse_loss(q, y) if self.loss == "mse" else F.smooth_l1_loss(q, y)
+        self.optimizer.zero_grad(set_to_none=True)
+        loss.backward()
+        if self.max_grad_norm > 0:
+            nn.utils.clip_grad_norm_(self.q.parameters(), self.max_grad_norm)
+        self.optimizer.step()
+        return float(loss.detach())
+
+    def update_target(self, tau: float = 1.0) -> None:
+        """Hard copy (tau = 1) or soft update theta- <- tau theta + (1 - tau) theta-."""
+        with torch.no_grad():
+            online, target = list(self.q.parameters()), list(self.target.parameters())
+            if tau >= 1.0:
+                torch._foreach_copy_(target, online)
+            else:
+                torch._foreach_lerp_(target, online, tau)
+            for b_target, b_online in zip(self.target.buffers(), self.q.buffers()):
+                b_target.copy_(b_online)
+
+    # ------------------------------------------------------------------ checkpoints
+    def state_dict(self) -> dict:
+        return dict(q=self.q.state_dict(), target=self.target.state_dict(), optimizer=self.optimizer.state_dict())
+
+    def load_state_dict(self, state: dict) -> None:
+        try:
+            self.q.load_state_dict(state["q"])
+            self.target.load_state_dict(state["target"])
+        except RuntimeError as err:  # missing keys or other shapes
+            raise ValueError(f"the checkpoint's Q-network does not fit this run's: {err}") from err
+        self.optimizer.load_state_dict(state["optimizer"])
+        if self.fast is not None:
+            self.fast.bind()

@@ -1,0 +1,157 @@
+"""The DQN update on torch modules: the numpy acceleration of the default MLP computes what the
+torch path computes on the same weights; any module with the right shapes trains."""
+
+import numpy as np
+import pytest
+import torch
+from torch import nn
+
+from agents.learner import Batch, DQNLearner
+from agents.networks import MLPQNetwork, PixelQNetwork, check_q_network, dueling_mlp, random_shift
+from agents.replay import ReplayMemory
+
+OBS, ACTIONS, BATCH = 24, 3, 128
+
+
+def learner(accelerate: bool, module=None, **kwargs) -> DQNLearner:
+    torch.manual_seed(0)
+    module = module if module is not None else MLPQNetwork(OBS, ACTIONS, (128, 128))
+    out = DQNLearner(module, Batch(BATCH, [((OBS,), np.float32)]), learning_rate=3e-3, accelerate=accelerate,
+                     **kwargs)
+    with torch.no_grad():  # a target that differs from the online network
+        for p in out.target.parameters():
+            p.add_(0.05 * torch.randn_like(p))
+    return out
+
+
+def fill(batch: Batch, seed: int) -> None:
+    rng = np.random.default_rng(seed)
+    batch.obs[0][:] = rng.normal(0, 2, batch.obs[0].shape)
+    batch.next_obs[0][:] = rng.normal(0, 2, batch.obs[0].shape)
+    batch.actions[:] = rng.integers(0, ACTIONS, BATCH)
+    batch.rewards[:] = rng.normal(0, 5, BATCH)
+    batch.not_done[:] = rng.random(BATCH) > 0.2
+
+
+@pytest.mark.parametrize("double,loss,max_grad_norm", [(False, "mse", 0.0), (True, "mse", 0.0), (False, "huber", 0.0),
+                                                      (True, "huber", 1.0), (False, "mse", 0.5)])
+def test_numpy_acceleration_equals_the_torch_update(double, loss, max_grad_norm):
+    plain, fast = (learner(a, double=double, loss=loss, max_grad_norm=max_grad_norm) for a in (False, True))
+    assert plain.fast is None and fast.fast is not None
+    for step in range(5):  # several steps exercise Adam's moments and bias correction
+        fill(plain.batch, 10 + step)
+        fill(fast.batch, 10 + step)
+        assert fast.update() == pytest.approx(plain.update(), rel=1e-5)
+        for a, b in zip(plain.q.parameters(), fast.q.parameters()):
+            torch.testing.assert_close(a, b, rtol=1e-4, atol=1e-6)
+    fast.update_target(0.3)
+    plain.update_target(0.3)
+    for a, b in zip(plain.target.parameters(), fast.target.parameters()):
+        torch.testing.assert_close(a, b, rtol=1e-4, atol=1e-6)
+    mine, theirs = fast.optimizer.state_dict()["state"], plain.optimizer.state_dict()["state"]
+    for i in theirs:
+        for key in ("step", "exp_avg", "exp_avg_sq"):
+            torch.testing.assert_close(mine[i][key], theirs[i][key], rtol=1e-4, atol=1e-8)
+
+
+def test_the_acceleration_shares_the_modules_weights():
+    fast = learner(True)
+    fill(fast.batch, 1)
+    fast.update()
+    x = np.random.default_rng(2).normal(size=OBS).astype(np.float32)
+    with torch.no_grad():
+        torch_q = fast.q(torch.from_numpy(x)[None])[0].numpy()
+    np.testing.assert_allclose(fast.q_values(x), torch_q, rtol=1e-5, atol=1e-6)
+    with torch.no_grad():  # a change made through the module is the accelerated path's change too
+        fast.q.linears[-1].bias.add_(10.0)
+    np.testing.assert_allclose(fast.q_values(x), torch_q + 10.0, rtol=1e-5)
+    # a checkpoint round trip re-binds the shared buffers
+    state = fast.state_dict()
+    other = learner(True)
+    other.load_state_dict(state)
+    np.testing.assert_allclose(other.q_values(x), fast.q_values(x), rtol=1e-6)
+    fill(other.batch, 3)
+    fill(fast.batch, 3)
+    assert other.update() == pytest.approx(fast.update(), rel=1e-6)
+    assert other.q.linears[0].weight.data_ptr() == other.fast.flat.ctypes.data
+
+
+def test_target_updates():
+    dqn = learner(False)
+    online = [p.detach().clone() for p in dqn.q.parameters()]
+    before = [p.detach().clone() for p in dqn.target.parameters()]
+    dqn.update_target(tau=0.25)
+    for t, b, o in zip(dqn.target.parameters(), before, online):
+        torch.testing.assert_close(t, 0.75 * b + 0.25 * o)
+    dqn.update_target()
+    for t, o in zip(dqn.target.parameters(), online):
+        torch.testing.assert_close(t, o, rtol=0, atol=0)
+
+
+def test_a_dueling_module_trains_with_the_same_update():
+    module = dueling_mlp([(OBS,)], ACTIONS)
+    dqn = learner(True, module=module)
+    assert dqn.fast is None  # only the default MLP has the numpy path
+    fill(dqn.batch, 0)
+    dqn.batch.not_done[:] = 0.0  # fixed targets y = r: the loss must fall
+    losses = [dqn.update() for _ in range(200)]
+    assert losses[-1] < 0.1 * losses[0]
+    q = dqn.q_values(np.zeros(OBS, np.float32))
+    assert q.shape == (ACTIONS,)
+
+
+def test_modules_with_wrong_shapes_are_clear_errors():
+    with pytest.raises(ValueError, match=r"expected Q-values of shape \(batch, 3\), got \(2, 4\)"):
+        check_q_network(nn.Linear(OBS, 4), [(OBS,)], [torch.float32], 3, "q_network 'x:y'")
+    with pytest.raises(ValueError, match="calling it on inputs of shapes"):
+        check_q_network(nn.Linear(7, 3), [(OBS,)], [torch.float32], 3, "q_network 'x:y'")
+    with pytest.raises(ValueError, match="dueling_mlp reads one state vector"):
+        dueling_mlp([(32, 32, 3), (0,)], 3)
+
+
+def test_pixel_network_and_random_shift():
+    frames = torch.arange(2 * 8 * 8, dtype=torch.float32).reshape(2, 1, 8, 8)
+    torch.manual_seed(0)
+    shifted = random_shift(frames, 2)
+    assert shifted.shape == frames.shape
+    for i in range(2):  # every shifted image is a window of the border-padded original
+        padded = nn.functional.pad(frames[i : i + 1], (2, 2, 2, 2), mode="replicate")[0, 0]
+        windows = [padded[y : y + 8, x : x + 8] for y in range(5) for x in range(5)]
+        assert any(torch.equal(shifted[i, 0], w) for w in windows)
+    net = PixelQNetwork((32, 32, 4), 5, 3, shift=2)
+    x = torch.randint(0, 256, (6, 32, 32, 4), dtype=torch.uint8)
+    s = torch.randn(6, 5)
+    net.eval()
+    torch.testing.assert_close(net(x, s), net(x, s))  # no augmentation when acting
+    net.train()
+    assert not torch.equal(net(x, s), net(x, s))  # random shifts in the update
+    assert net(x, s).shape == (6, 3)
+
+
+def test_replay_ring_buffer_and_state_round_trip():
+    memory = ReplayMemory(5, 2)
+    for i in range(7):
+        memory.add([i, i], i % 3, float(i), [i + 1, i + 1], terminated=(i == 6))
+    assert len(memory) == 5 and memory.pos == 2
+    assert sorted(memory.rewards.tolist()) == [2, 3, 4, 5, 6]
+    assert memory.not_done[1] == 0.0 and memory.not_done[0] == 1.0  # the terminated step at index 1
+    copy = ReplayMemory(5, 2)
+    copy.load_state_dict(memory.state_dict())
+    for name in ("obs", "next_obs", "actions", "rewards", "not_done"):
+        np.testing.assert_array_equal(getattr(copy, name), getattr(memory, name))
+    batch = Batch(16, [((2,), np.float32)])
+    memory.sample_into(batch, np.random.default_rng(0))
+    assert set(batch.rewards.tolist()) <= {2.0, 3.0, 4.0, 5.0, 6.0}
+    np.testing.assert_array_equal(batch.next_obs[0], batch.obs[0] + 1)
+    with pytest.raises(ValueError, match="3 x 2"):
+        ReplayMemory(4, 2).load_state_dict(ReplayMemory(3, 2).state_dict())
+
+
+@pytest.mark.skipif(torch.cuda.is_available(), reason="this machine has a GPU")
+def test_asking_for_a_missing_gpu_is_a_clear_error():
+    from agents.config_io import parse_args
+
+    with pytest.raises(ValueError, match="torch finds no GPU here"):
+        parse_args(["--device", "cuda"])
+    with pytest.raises(ValueError, match="use cpu, cuda or cuda:N"):
+        parse_args(["--device", "tpu"])
