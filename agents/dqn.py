@@ -42,6 +42,7 @@ from . import checkpoint as ckpt
 from .config import Config
 from .config_io import config_from_dict, parse_args, save_yaml, to_yaml_dict
 from .envs import make_env_from
+from .evaluate import evaluate_as_configured
 from .experience import make_experience
 from .learner import Batch, DQNLearner
 from .policy import build_q_network
@@ -159,8 +160,6 @@ def train(config: Config) -> Path:
 
 
 def main(argv: list[str] | None = None) -> None:
-    from .evaluate import evaluate_as_configured
-
     try:
         config = parse_args(argv)
         if config.eval:

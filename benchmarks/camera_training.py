@@ -33,18 +33,22 @@ TASK = "DynNav-VisualMovingTargets-v1"
 
 def run(steps: int, frames: int, mode: str) -> float:
     """Steps/s of ``mode``: state, camera, encode or train."""
-    from agents.config import Config
-    from agents.envs import make_env
+    from agents.config_io import make
+    from agents.envs import make_env_from
     from agents.experience import make_experience
-    from agents.qnetwork import QLearner
+    from agents.learner import Batch, DQNLearner
+    from agents.networks import MLPQNetwork
 
-    config = Config(task=TASK, camera_frames=0 if mode == "state" else frames, buffer_size=max(steps + 1000, 5000),
-                    batch_size=128, algorithm="ddqn")
-    env = make_env(TASK, camera_frames=config.camera_frames)
+    config = make(task=TASK, camera_frames=0 if mode == "state" else frames, buffer_size=max(steps + 1000, 5000),
+                  batch_size=128, algorithm="ddqn")
+    env = make_env_from(config)
     experience = make_experience(env, config) if mode in ("encode", "train") else None
     if experience is not None:
         experience.srl.updates_done = 1  # encode every frame, as after the first update
-    learner = QLearner(experience.dim, 3, (128, 128), 128, double=True) if mode == "train" else None
+    learner = None
+    if mode == "train":
+        specs = experience.features.input_specs
+        learner = DQNLearner(MLPQNetwork(specs[0][0][0], 3), Batch(128, specs), double=True)
     rng = np.random.default_rng(0)
     actions = rng.integers(0, 3, size=steps + 200)
 
@@ -73,10 +77,10 @@ def run(steps: int, frames: int, mode: str) -> float:
 
 
 def autoencoder_batch_seconds(frames: int, repeats: int = 10) -> tuple[float, object]:
-    from agents.config import Config
+    from agents.config_io import make
     from agents.state_representation import SRLSettings, StateRepresentation
 
-    settings = SRLSettings.from_config(Config(task=TASK, camera_frames=frames))
+    settings = SRLSettings.from_config(make(task=TASK, camera_frames=frames))
     srl = StateRepresentation(settings, seed=0)
     batch = np.random.default_rng(0).integers(0, 256, size=(settings.batch_size, *settings.frame_shape), dtype=np.uint8)
     srl.trainer.train_batch(batch)
