@@ -15,7 +15,8 @@ truncated or corrupt file, weights that are not finite, or another format versio
 Writes are atomic: the files go to ``<run>/.checkpoint.tmp-*/`` first, are flushed to disk,
 then that folder is renamed to ``checkpoint`` (the previous one is moved aside first and
 deleted after). A run killed at any moment keeps a complete checkpoint; what a killed write
-left behind (temporary folders and files) is removed by the next write or load.
+left behind (temporary folders and files) is removed by the run's next write or resume;
+reading never changes a run directory.
 """
 
 from __future__ import annotations
@@ -162,26 +163,32 @@ def save(run_dir: str | Path, state: dict) -> Path:
 
 
 # ---------------------------------------------------------------------------------------- loading
+def _in_run_dir(run_dir: Path) -> Path | None:
+    """The complete checkpoint folder of a run directory: ``checkpoint/``, or the previous one a
+    write killed between its two renames left aside (without moving anything)."""
+    if (run_dir / FILENAME / META).is_file():
+        return run_dir / FILENAME
+    aside = sorted(p for p in run_dir.glob(".checkpoint.old-*") if (p / META).is_file())
+    return aside[-1] if aside else None
+
+
 def resolve(path: str | Path) -> Path:
     """The checkpoint folder: given as itself, as the run directory holding it, or as a file in it."""
     path = Path(path)
     if path.is_file() and path.name in (META, WEIGHTS, MEMORY):
         path = path.parent
-    if path.is_dir() and not (path / META).exists() and (path / FILENAME).is_dir():
-        path = path / FILENAME
+    if (path / META).is_file():
+        return path
     old = path if path.suffix == ".pkl" else path / OLD_PICKLE
-    if old.is_file() and not (path / META).is_file():
+    if old.is_file():
         raise CheckpointError(
             f"{str(old)!r} is a checkpoint of an older dynnav version (a Python pickle). This version reads "
             f"only checkpoint folders (meta.json, weights.pt, memory.npz) and never unpickles, since a pickle "
             f"can run any code; train the run again with this version")
-    if not path.is_dir() or not (path / META).is_file():
-        if path.is_dir():
-            clean_leftovers(path)
-            if (path / FILENAME / META).is_file():
-                return path / FILENAME
+    found = _in_run_dir(path) if path.is_dir() else None
+    if found is None:
         raise CheckpointError(f"no checkpoint at {str(path)!r} (expected a run directory or its checkpoint folder)")
-    return path
+    return found
 
 
 def load(path: str | Path, memory: bool = True) -> dict:
@@ -223,6 +230,5 @@ def load(path: str | Path, memory: bool = True) -> dict:
 
 
 def exists(run_dir: str | Path) -> bool:
-    """Whether ``run_dir`` holds a checkpoint (after putting back one a killed write moved aside)."""
-    clean_leftovers(run_dir)
-    return (Path(run_dir) / FILENAME / META).is_file()
+    """Whether ``run_dir`` holds a complete checkpoint (reading only: safe while the run writes)."""
+    return Path(run_dir).is_dir() and _in_run_dir(Path(run_dir)) is not None
