@@ -1,0 +1,57 @@
+"""The full-state planner: its forecasts contain where obstacles really go, and it drives."""
+
+import numpy as np
+import pytest
+
+from dynnav_tasks.motion import BackAndForth, RandomInRect, Route
+from dynnav_tasks.state_planner import ObstacleForecast, run_planner
+from dynnav_tasks.world import Obstacles, World
+from dynnav_tasks.motion import Static
+
+HALF = (0.25, 0.25)
+
+
+def _forecast_holds(motion, observed_steps, horizon=20, seed=3):
+    """Run the motion's mover; after ``observed_steps`` observations, every future position
+    lies in the forecast's box for its step (the box minus the obstacle's half size)."""
+    world = World(targets=(Static((0.0, 0.0)),), obstacles=(Obstacles(HALF, motion),))
+    forecast = ObstacleForecast(world)
+    rng = np.random.default_rng(seed)
+    mover = motion.mover()
+    xy = mover.reset(rng)
+    for _ in range(observed_steps):
+        boxes = forecast.boxes(xy, horizon)
+        xy = mover.advance(rng)
+    boxes = forecast.boxes(xy, horizon)
+    future = [xy] + [mover.advance(rng) for _ in range(horizon)]
+    sizes = []
+    for k, p in enumerate(future):
+        lo, hi = boxes[k, 0, 0] + HALF, boxes[k, 0, 1] - HALF
+        assert np.all(p[0] >= lo - 1e-9) and np.all(p[0] <= hi + 1e-9), (k, p, lo, hi)
+        sizes.append(hi - lo)
+    return np.array(sizes)
+
+
+def test_back_and_forth_is_forecast_exactly_once_its_way_is_seen():
+    sizes = _forecast_holds(BackAndForth(center=(1, 1), direction=(1, 0), amplitude=1.5, speed=0.1), 1)
+    # now: a point; step k: the span of the positions at k - 1 and k, one step long at most
+    assert np.allclose(sizes[0], 0) and np.all(sizes[1:, 0] <= 0.1 + 1e-9) and np.allclose(sizes[:, 1], 0)
+    assert np.isclose(sizes[1:, 0], 0.1).mean() > 0.8
+
+
+def test_a_route_obstacle_is_forecast_after_its_speed_is_seen():
+    route = Route(waypoints=((0, 0), (2, 0), (2, 2), (0, 2)), speed_range=(0.05, 0.5))
+    assert _forecast_holds(route, 0).max() > 1.0  # before: every speed of the range
+    sizes = _forecast_holds(route, 1)
+    assert sizes.max() <= 0.5 + 1e-9  # after: one step of the true speed
+
+
+def test_a_wandering_obstacle_stays_in_its_growing_box():
+    for seed in range(5):
+        sizes = _forecast_holds(RandomInRect(x_range=(0, 2), y_range=(0, 1)), 2, seed=seed)
+        assert sizes[-1][0] == pytest.approx(2.0) and sizes[-1][1] == pytest.approx(1.0)  # its whole area
+
+
+def test_the_planner_crosses_the_loop_of_world_5_3():
+    result = run_planner("DynNav-MovingObstacles-v1", range(5))
+    assert result.outcomes == ["success"] * 5, result.summary()
