@@ -38,7 +38,7 @@ def run_episodes(policy: Policy, episodes: int, seed: int, recorder=None, latent
     env = policy.env
     dynnav = is_dynnav(policy.config.task)
     parts = state_slices(env.unwrapped.state_layout()) if dynnav else {}
-    reach = float(getattr(env.unwrapped, "reach_radius", 0.0))
+    reach = float(env.unwrapped.reach_radius) if dynnav else 0.0
     n_actions = int(env.action_space.n)
     records = []
     for i in range(episodes):
