@@ -5,9 +5,12 @@ Importing the package registers every task with ManiSkill and gymnasium::
     import gymnasium as gym
     import dynnav_tasks
 
-    env = gym.make("DynNav-MovingTarget-v1", obs_mode="state")
+    env = gym.make("DynNav-MovingTarget-v1", obs_mode="state")   # batched torch, as ManiSkill
+    env = dynnav_tasks.NumpyWrapper(env)                          # plain gymnasium: numpy, unbatched
 
-``dynnav_tasks.make`` does the same and, for an unknown task id, lists the valid ones.
+``dynnav_tasks.make`` does the same as ``gym.make`` and, for an unknown task id, lists the
+valid ones. ``gym.make_vec(task_id, num_envs=n)`` (sync or async) gives observations of shape
+``(n, state size)``; see ``registration.py``.
 """
 
 from __future__ import annotations
@@ -18,13 +21,17 @@ from . import robot  # noqa: F401  (registers the agent)
 from . import tasks  # noqa: F401  (registers the tasks)
 from .errors import check_choice
 from .nav_env import NavEnv
+from .registration import register_with_gymnasium
+from .snapshot import StepSnapshot
+from .wrappers import NumpyWrapper
 
 TASK_IDS = tuple(uid for uid, spec in REGISTERED_ENVS.items() if issubclass(spec.cls, NavEnv))
 """Every dynnav task id, in the thesis's order of worlds (5.1, 5.2, 5.3, 5.4a-c, 5.5a-c)."""
 VISUAL_TASK_IDS = tuple(uid for uid in TASK_IDS if REGISTERED_ENVS[uid].cls.camera_world)
 """The camera worlds of the thesis (5.5a-c)."""
+register_with_gymnasium(TASK_IDS)
 
-__all__ = ["NavEnv", "TASK_IDS", "VISUAL_TASK_IDS", "check_choice", "make"]
+__all__ = ["NavEnv", "NumpyWrapper", "StepSnapshot", "TASK_IDS", "VISUAL_TASK_IDS", "check_choice", "make"]
 
 
 def make(task_id: str, **kwargs):

@@ -9,7 +9,10 @@ Episode rules
       target's centre; the episode terminates.
     * collision: a PhysX contact between the robot (chassis or wheels) and a wall or an
       obstacle that either pushed them apart (non-zero impulse) or has a separation of at
-      most ``collision_margin`` (5 mm); the episode terminates.
+      most ``collision_margin`` (5 mm), at any PhysX sub-step; or the robot's footprint
+      overlapping a wall or an obstacle at the end of the step (PhysX finds contacts at the
+      start of a sub-step, so an overlap made during the last one would otherwise be seen a
+      step late); the episode terminates.
     * timeout: ``max_episode_steps`` (200) steps without either; the episode is truncated,
       not terminated.
 
@@ -27,6 +30,7 @@ Step
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from functools import cached_property
 from typing import Any, ClassVar, Optional
 
@@ -43,19 +47,14 @@ from . import rewards as R
 from .camera import FRONT_CAMERA, CameraSpec
 from .errors import check_choice
 from .lasers import LaserRing
-from .motion import wrap_angle
 from .vulkan import explain, is_vulkan_error
 from .robot import FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH, LASER_HEIGHT, DiffBot, DriveConfig
 from .scene import HIDDEN_Z, add_lighting, build_world
+from .snapshot import StepSnapshot, footprint_overlaps, take_snapshot
 from .world import World
 
 OBS_MODES = ("state", "rgb", "rgb+state")
-
-
-def box_distance(point: np.ndarray, centers: np.ndarray, half_sizes: np.ndarray) -> np.ndarray:
-    """Distances from a 2D point to axis-aligned rectangles (0 inside)."""
-    d = np.maximum(np.abs(point[None, :] - centers) - half_sizes, 0.0)
-    return np.sqrt((d * d).sum(axis=1))
+FOOTPRINT_HALF = (FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH)
 
 
 class NavEnv(BaseEnv):
@@ -107,6 +106,7 @@ class NavEnv(BaseEnv):
         )
         self.drive_config.validate()
         self.camera_spec = CameraSpec(size=camera_size, render_size=camera_render_size)
+        self._snapshot: Optional[StepSnapshot] = None
         super().__init__(
             *args,
             obs_mode=obs_mode,
@@ -198,6 +198,9 @@ class NavEnv(BaseEnv):
         self._moving_bodies, self._moving_z = built.moving_bodies, built.moving_z
         self._static_obstacle_xy, self._obstacle_half = built.static_obstacle_xy, built.obstacle_half
         self._targets = built.targets
+        walls = list(self.world.arena.walls().values())
+        self._fixed_xy = np.concatenate([[c for c, _ in walls], self._static_obstacle_xy])
+        self._solid_half = np.concatenate([[h for _, h in walls], self._obstacle_half])
         self._px = self.scene.px
         self._lasers = LaserRing(self._px, FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH, LASER_HEIGHT)
         self._robot_bodies = {
@@ -228,57 +231,57 @@ class NavEnv(BaseEnv):
         self._moving_xy = np.concatenate(moving) if moving else np.zeros((0, 2))
         self.agent.set_pose2d(*world.start.sample(rng))
         self.agent.controller.reset()
-
-        self._terminal = False
-        self._path_length = 0.0
+        # nothing has been simulated since the placement: PhysX's contacts are the last episode's
+        self._snapshot = self._take_snapshot(step=0, contact=False, previous=None)
         self._reward = 0.0
-        self._sense()
 
     # ------------------------------------------------------------------ step
     def step(self, action: Any):
-        if self._terminal:
+        """ManiSkill's step: batched torch tensors (see ``step_numpy`` for the same in numpy)."""
+        obs, reward, terminated, truncated, _ = self.step_numpy(action, numpy_obs=False)
+        return (
+            obs,
+            torch.tensor([reward], dtype=torch.float32),
+            torch.tensor([terminated]),
+            torch.tensor([truncated]),
+            self.get_info(),
+        )
+
+    def step_numpy(self, action: Any, numpy_obs: bool = True):
+        """One step in the plain gymnasium form: (observation as numpy, reward as float,
+        terminated, truncated, info of Python scalars). ``NumpyWrapper`` calls this."""
+        if self._snapshot is None:
+            raise RuntimeError("call reset() before step()")
+        if self._terminal():
             raise RuntimeError("the episode has ended (success or collision): call reset() before step()")
+        self.agent.controller.set_action(action)
+        prev = self._snapshot
+        self._simulate()
+        self._snapshot = self._take_snapshot(step=prev.step + 1, contact=None, previous=prev)
+        result = self.outcome()  # evaluate()'s decision, as Python values
+        self._reward = R.compute_reward(
+            self._reward_mode, prev, self._snapshot, self.reward_params,
+            reached=result["success"], collided=result["collision"],
+        )
+        obs = self.get_obs()  # also keeps the numpy observation in self._obs_numpy
+        self._last_obs = obs
+        return self._obs_numpy if numpy_obs else obs, self._reward, result["success"] or result["collision"], result["timeout"], result
+
+    def _simulate(self):
+        """One control step: the robot's drive and every mover, over the PhysX sub-steps."""
         controller = self.agent.controller
-        controller.set_action(action)
-        # advance every mover one control step; interpolate kinematic targets per PhysX step
         old_xy, new_xy = self._moving_xy, self._advance_movers()
         n_sub = self._sim_steps_per_control
         bodies = self._moving_bodies
         for k in range(1, n_sub + 1):
             controller.before_simulation_step()
             if bodies:
-                frac = k / n_sub
-                xy = old_xy + (new_xy - old_xy) * frac
-                for body, z, p in zip(bodies, self._moving_z, xy):
+                xy = old_xy + (new_xy - old_xy) * (k / n_sub)  # kinematic targets, interpolated
+                for body, z, p in zip(bodies, self._moving_z, xy.tolist()):
                     body.set_kinematic_target(sapien.Pose([p[0], p[1], z]))
             self._px.step()
         self._moving_xy = new_xy
         self._advance_targets()
-        self._elapsed_steps += 1
-        self._step_count += 1
-
-        prev = self._sensed
-        self._sense()
-        info = self.get_info()  # evaluate() decides success and collision
-        reached, collided = self._success, self._collided
-        self._reward = R.compute_reward(
-            self._reward_mode,
-            R.RewardInputs(
-                d1=self._d1, d1_prev=prev[0], d2=self._d2, d2_prev=prev[1],
-                bearing=self._bearing, bearing_prev=prev[2], reached=reached, collided=collided,
-            ),
-            self.reward_params,
-        )
-        self._terminal = reached or collided
-        obs = self.get_obs(info)
-        self._last_obs = obs
-        return (
-            obs,
-            torch.tensor([self._reward], dtype=torch.float32),
-            torch.tensor([self._terminal]),
-            torch.tensor([self._step_count >= self.max_episode_steps and not self._terminal]),
-            info,
-        )
 
     def _advance_movers(self) -> np.ndarray:
         rng = self.np_random
@@ -294,32 +297,47 @@ class NavEnv(BaseEnv):
         self._target_xy = xy
 
     # ------------------------------------------------------------------ sensing
-    def _sense(self):
-        """Read the robot's pose, lasers, contacts and distances after a step or a reset."""
+    def _take_snapshot(self, step: int, contact: Optional[bool], previous: Optional[StepSnapshot]) -> StepSnapshot:
+        """``contact=None``: after a step, from PhysX's contacts and the footprint's overlap."""
         x, y, yaw = self.agent.pose2d()
-        if self._robot_xy is not None:
-            self._path_length += math.hypot(x - self._robot_xy[0], y - self._robot_xy[1])
-        self._robot_xy = np.array([x, y])
-        self._robot_yaw = yaw
-        self._laser = self._lasers.read(x, y, yaw)
-        tx, ty = self._target_xy
-        self._d1 = math.hypot(tx - x, ty - y)
-        obstacle_xy = np.concatenate([self._static_obstacle_xy, self._moving_xy])
-        self._d2 = float(box_distance(self._robot_xy, obstacle_xy, self._obstacle_half).min()) if len(obstacle_xy) else math.inf
-        self._bearing = float(wrap_angle(math.atan2(ty - y, tx - x) - yaw))
-        self._contact = self._in_collision()
-        self._sensed = (self._d1, self._d2, self._bearing)
+        if contact is None:
+            contact = self._in_collision() or footprint_overlaps(
+                (x, y, yaw), FOOTPRINT_HALF, self._solid_xy(), self._solid_half
+            )
+        return take_snapshot(
+            step=step,
+            pose=(x, y, yaw),
+            lasers=self._lasers.read(x, y, yaw),
+            target_xy=self._target_xy,
+            static_xy=self._static_obstacle_xy,
+            moving_xy=self._moving_xy,
+            obstacle_half=self._obstacle_half,
+            contact=contact,
+            previous=previous,
+        )
+
+    def _solid_xy(self) -> np.ndarray:
+        """Centres of everything the robot can hit: walls, static boxes, moving boxes."""
+        return np.concatenate([self._fixed_xy, self._moving_xy])
 
     def _in_collision(self) -> bool:
         robot = self._robot_bodies
+        margin = self.collision_margin
         for contact in self._px.get_contacts():
             a, b = contact.bodies
             if (a in robot) != (b in robot):  # robot against anything else
                 for p in contact.points:
                     # touching, or the solver had to push them apart during the step
-                    if p.separation <= self.collision_margin or np.any(p.impulse):
+                    if p.separation <= margin or p.impulse.any():
                         return True
         return False
+
+    @property
+    def snapshot(self) -> StepSnapshot:
+        """The frozen ``StepSnapshot`` of the latest reset, step or ``place_robot``."""
+        if self._snapshot is None:
+            raise RuntimeError("no snapshot yet: call reset() first")
+        return self._snapshot
 
     # ------------------------------------------------------------------ ManiSkill API
     def reset(self, seed=None, options=None):
@@ -331,36 +349,70 @@ class NavEnv(BaseEnv):
         if isinstance(seed, (list, tuple, np.ndarray)):  # ManiSkill's batched form
             seed = int(seed[0])
         gym.Env.reset(self, seed=seed)
-        self._step_count = 0
-        self._robot_xy = None
         return super().reset(seed=seed, options=options)
 
-    def evaluate(self) -> dict:
-        """The single source of success and failure (decided here, read by ``step``)."""
-        self._collided = self._contact
-        self._success = self._d1 <= self.reach_radius and not self._collided
-        timeout = self._step_count >= self.max_episode_steps and not (self._success or self._collided)
+    @property
+    def numpy_observation(self):
+        """The observation of the latest reset or step, unbatched numpy (as ``step_numpy`` gives)."""
+        return self._obs_numpy
+
+    def outcome(self) -> dict:
+        """Success and failure of the current snapshot, as Python values (read-only).
+
+        success: the robot's centre within ``reach_radius`` of the target, without contact;
+        collision (also ``fail``): the robot touched a wall or an obstacle; timeout: the step
+        limit came first. ``evaluate`` returns the same as batched tensors.
+        """
+        s = self.snapshot
+        collision = s.contact
+        success = s.d1 <= self.reach_radius and not collision
         return dict(
-            success=torch.tensor([self._success]),
-            fail=torch.tensor([self._collided]),
-            collision=torch.tensor([self._collided]),
-            timeout=torch.tensor([timeout]),
-            distance_to_target=torch.tensor([self._d1], dtype=torch.float32),
-            path_length=torch.tensor([self._path_length], dtype=torch.float32),
+            elapsed_steps=s.step,
+            success=success,
+            fail=collision,
+            collision=collision,
+            timeout=s.step >= self.max_episode_steps and not (success or collision),
+            distance_to_target=s.d1,
+            path_length=s.path_length,
         )
+
+    def evaluate(self) -> dict:
+        """The single source of success and failure, read from the snapshot; changes nothing."""
+        result = self.outcome()
+        del result["elapsed_steps"]
+        return {
+            k: torch.tensor([v], dtype=torch.float32 if isinstance(v, float) else torch.bool)
+            for k, v in result.items()
+        }
+
+    @property
+    def elapsed_steps(self) -> torch.Tensor:
+        """Steps since the reset, batched (ManiSkill's API)."""
+        steps = self._snapshot.step if self._snapshot is not None else 0
+        return torch.tensor([steps], dtype=torch.int32)
+
+    def _terminal(self) -> bool:
+        result = self.outcome()
+        return result["success"] or result["collision"]
 
     def get_obs(self, info: Optional[dict] = None, unflattened: bool = False):
         """Batched torch observation of the current step (see the module docstring)."""
-        if self._obs_mode == "rgb":
-            return torch.from_numpy(self.camera_image()[None])
-        state = torch.from_numpy(self.state_vector()[None])
+        obs = self._obs_numpy = self.observation_numpy()
+        if isinstance(obs, dict):
+            return {k: torch.from_numpy(v[None]) for k, v in obs.items()}
+        return torch.from_numpy(obs[None])
+
+    def observation_numpy(self):
+        """The current observation, unbatched numpy: the state vector, the camera image, or both."""
         if self._obs_mode == "state":
-            return state
-        return {"rgb": torch.from_numpy(self.camera_image()[None]), "state": state}
+            return self.state_vector()
+        if self._obs_mode == "rgb":
+            return self.camera_image()
+        return {"rgb": self.camera_image(), "state": self.state_vector()}
 
     def state_vector(self) -> np.ndarray:
         """lasers | robot xy | target xy | moving obstacles xy, float32."""
-        return np.concatenate([self._laser, self._robot_xy, self._target_xy, self._moving_xy.reshape(-1)]).astype(np.float32)
+        return self.snapshot.state_vector()
 
     def camera_image(self) -> np.ndarray:
         """What the front camera sees now: uint8 (size, size, 3)."""
@@ -381,15 +433,34 @@ class NavEnv(BaseEnv):
         """Which of the world's targets this episode's robot must reach (0-based)."""
         return self._target_index
 
+    @property
+    def laser_angles(self) -> np.ndarray:
+        """Direction of each laser ray relative to the robot's heading (rad)."""
+        return self._lasers.angles.copy()
+
+    @property
+    def laser_range(self) -> float:
+        """Reading of a ray that meets nothing (m)."""
+        return self._lasers.max_range
+
     def get_reward(self, obs, action, info):
         return torch.tensor([self._reward], dtype=torch.float32)
 
+    def close(self):
+        """Release the scene at once, so nothing of SAPIEN's lingers for a forked child."""
+        for name in ("_px", "_lasers", "_movers", "_moving_bodies", "_targets", "_robot_bodies", "segmentation_id_map"):
+            self.__dict__.pop(name, None)
+        super().close()
+
     # ------------------------------------------------------------------ convenience
     def place_robot(self, x: float, y: float, yaw: float):
-        """Teleport the robot (for tests and tools) and re-sense; returns the state vector."""
+        """Teleport the robot (for tests and tools) and take a new snapshot (same step, same
+        path length, no contact: nothing was simulated); returns the state vector."""
         self.agent.set_pose2d(x, y, yaw)
-        self._robot_xy = None
-        self._sense()
+        prev = self.snapshot
+        self._snapshot = replace(
+            self._take_snapshot(step=prev.step, contact=False, previous=None), path_length=prev.path_length
+        )
         return self.state_vector()
 
     def render_top_down(self, show_all_targets: bool = False) -> np.ndarray:

@@ -193,31 +193,30 @@ class Recorder:
         ), static=True)
 
     def _log_state(self, base) -> None:
-        rec = self.rec
-        x, y, yaw = (float(v) for v in base.agent.pose2d())
+        rec, snap = self.rec, base.snapshot
+        x, y, yaw = snap.pose
         rec.log("world/robot", rr.Transform3D(
             translation=[x, y, 0.0], rotation=rr.RotationAxisAngle(axis=[0, 0, 1], radians=yaw),
         ))
         # lasers, in the robot's frame
-        readings = np.asarray(base._laser, dtype=np.float64)
-        angles = base._lasers.angles
+        readings = snap.lasers.astype(np.float64)
+        angles = base.laser_angles
         ends = np.stack([readings * np.cos(angles), readings * np.sin(angles), np.full_like(readings, LASER_HEIGHT)], axis=1)
         start = np.array([0.0, 0.0, LASER_HEIGHT])
         rec.log("world/robot/lasers", rr.LineStrips3D([[start, e] for e in ends], colors=[[255, 60, 60]], radii=0.005))
-        hit = readings < base._lasers.max_range - 1e-6
+        hit = readings < base.laser_range - 1e-6
         rec.log("world/robot/laser_hits", rr.Points3D(ends[hit], colors=[[255, 200, 0]], radii=0.03))
         # obstacles and target, in the world frame
-        centers = np.concatenate([base._static_obstacle_xy, base._moving_xy])
+        centers, half = snap.obstacle_xy, snap.obstacle_half
         if len(centers):
-            half = base._obstacle_half
-            n_static = len(base._static_obstacle_xy)
-            colors = [_rgb255(STATIC_OBSTACLE_COLOR)] * n_static + [_rgb255(MOVING_OBSTACLE_COLOR)] * (len(centers) - n_static)
+            n_static = len(centers) - snap.moving_count
+            colors = [_rgb255(STATIC_OBSTACLE_COLOR)] * n_static + [_rgb255(MOVING_OBSTACLE_COLOR)] * snap.moving_count
             rec.log("world/obstacles", rr.Boxes3D(
                 centers=[[c[0], c[1], 0.25] for c in centers],
                 half_sizes=[[h[0], h[1], 0.25] for h in half],
                 colors=colors, fill_mode="solid",
             ))
-        tx, ty = (float(v) for v in base._target_xy)
+        tx, ty = (float(v) for v in snap.target_xy)
         rec.log("world/target", rr.Cylinders3D(
             centers=[[tx, ty, 0.002]], lengths=[0.004], radii=[TARGET_DISC_RADIUS],
             colors=[_rgb255(TARGET_COLOR)], fill_mode="solid",

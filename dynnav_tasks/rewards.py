@@ -1,7 +1,9 @@
 """The five reward functions of the study, selected with ``reward_mode``.
 
-Every function reads the same ``RewardInputs`` (the step's before/after geometry) and the
-task's ``RewardParams``; each is defined here and nowhere else.
+Every function reads the snapshots before and after the step (``snapshot.StepSnapshot``:
+only their ``d1``, ``d2`` and ``bearing``) and the task's ``RewardParams``; whether the step
+reached the target or collided comes from ``NavEnv.evaluate``. Each function is defined here
+and nowhere else.
 
 Symbols: d1 = distance from the robot's centre to the target's centre; d2 = distance from
 the robot's centre to the nearest obstacle box (walls are not obstacles; infinite when the
@@ -43,7 +45,9 @@ Readings chosen where the thesis is ambiguous (each is tested in tests/test_rewa
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass, fields
+from typing import Protocol
 
 REWARD_MODES = (
     "distance_orientation_always",
@@ -96,39 +100,40 @@ class RewardParams:
                 "unknown reward parameter(s) " + ", ".join(repr(u) for u in unknown) + "; "
                 + close_matches_message(unknown[0], sorted(known), "reward parameter")
             )
-        return cls(**{k: float(v) for k, v in values.items()})
+        return cls(**values)
+
+    def __post_init__(self):
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if isinstance(value, bool) or not isinstance(value, numbers.Real) or not math.isfinite(value):
+                raise ValueError(f"reward parameter {f.name!r} must be a finite number, got {value!r}")
+            object.__setattr__(self, f.name, float(value))
 
 
-@dataclass(frozen=True)
-class RewardInputs:
-    """What a reward function may look at for one step (``_prev`` = before the step)."""
+class Geometry(Protocol):
+    """What a reward reads of a step's snapshot (``StepSnapshot`` has all three)."""
 
     d1: float
-    d1_prev: float
     d2: float
-    d2_prev: float
     bearing: float
-    """alpha' in radians, target azimuth seen from the robot relative to its heading"""
-    bearing_prev: float
-    reached: bool
-    collided: bool
+    """alpha in radians, the target's azimuth seen from the robot relative to its heading"""
 
 
-def _distance_term(x: RewardInputs, p: RewardParams) -> float:
-    return 1.0 - math.exp(p.distance_gamma * x.d1)
+def _distance_term(cur: Geometry, p: RewardParams) -> float:
+    return 1.0 - math.exp(p.distance_gamma * cur.d1)
 
 
 def _near(d2: float, p: RewardParams) -> bool:
     return d2 <= p.obstacle_threshold
 
 
-def _obstacle_term(x: RewardInputs, p: RewardParams) -> float:
-    return -p.obstacle_scale / x.d2 if _near(x.d2, p) else 0.0
+def _obstacle_term(cur: Geometry, p: RewardParams) -> float:
+    return -p.obstacle_scale / cur.d2 if _near(cur.d2, p) else 0.0
 
 
-def orientation_term(x: RewardInputs, p: RewardParams) -> float:
+def orientation_term(prev: Geometry, cur: Geometry, p: RewardParams) -> float:
     """r_o: how much the step reduced the angle between heading and target direction."""
-    return (abs(x.bearing_prev) - abs(x.bearing)) * p.orientation_scale
+    return (abs(prev.bearing) - abs(cur.bearing)) * p.orientation_scale
 
 
 def potential(d1: float, d2: float, p: RewardParams) -> float:
@@ -139,30 +144,22 @@ def potential(d1: float, d2: float, p: RewardParams) -> float:
     return phi
 
 
-def sparse(x: RewardInputs, p: RewardParams) -> float:
-    if x.collided:
-        return p.sparse_collision
-    if x.reached:
-        return p.sparse_reach
-    return p.sparse_step
+def distance(prev: Geometry, cur: Geometry, p: RewardParams) -> float:
+    return _distance_term(cur, p) + _obstacle_term(cur, p)
 
 
-def distance(x: RewardInputs, p: RewardParams) -> float:
-    return _distance_term(x, p) + _obstacle_term(x, p)
+def distance_orientation(prev: Geometry, cur: Geometry, p: RewardParams) -> float:
+    if _near(cur.d2, p):
+        return _distance_term(cur, p) + _obstacle_term(cur, p)
+    return _distance_term(cur, p) + orientation_term(prev, cur, p)
 
 
-def distance_orientation(x: RewardInputs, p: RewardParams) -> float:
-    if _near(x.d2, p):
-        return _distance_term(x, p) + _obstacle_term(x, p)
-    return _distance_term(x, p) + orientation_term(x, p)
+def distance_orientation_always(prev: Geometry, cur: Geometry, p: RewardParams) -> float:
+    return _distance_term(cur, p) + orientation_term(prev, cur, p) + _obstacle_term(cur, p)
 
 
-def distance_orientation_always(x: RewardInputs, p: RewardParams) -> float:
-    return _distance_term(x, p) + orientation_term(x, p) + _obstacle_term(x, p)
-
-
-def potential_shaping(x: RewardInputs, p: RewardParams) -> float:
-    return p.potential_gamma * potential(x.d1, x.d2, p) - potential(x.d1_prev, x.d2_prev, p)
+def potential_shaping(prev: Geometry, cur: Geometry, p: RewardParams) -> float:
+    return p.potential_gamma * potential(cur.d1, cur.d2, p) - potential(prev.d1, prev.d2, p)
 
 
 _SHAPED = {
@@ -173,12 +170,17 @@ _SHAPED = {
 }
 
 
-def compute_reward(mode: str, x: RewardInputs, p: RewardParams) -> float:
-    """The reward of one step under ``mode`` (one of ``REWARD_MODES``)."""
+def compute_reward(
+    mode: str, prev: Geometry, cur: Geometry, p: RewardParams, *, reached: bool, collided: bool
+) -> float:
+    """The reward of the step from snapshot ``prev`` to snapshot ``cur`` under ``mode``.
+
+    ``reached`` and ``collided`` are the step's outcome as ``NavEnv.evaluate`` decided it.
+    """
     if mode == "sparse":
-        return sparse(x, p)
-    if x.collided:
+        return p.sparse_collision if collided else p.sparse_reach if reached else p.sparse_step
+    if collided:
         return p.collision_reward
-    if x.reached:
+    if reached:
         return p.reach_reward
-    return _SHAPED[mode](x, p)
+    return _SHAPED[mode](prev, cur, p)

@@ -22,6 +22,7 @@ The per-step distances are converted to velocities with the control frequency, s
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -40,6 +41,38 @@ FOOTPRINT_HALF_LENGTH = 0.225  # m, along x (forward)
 FOOTPRINT_HALF_WIDTH = 0.19  # m, along y (wheel outer faces)
 LASER_HEIGHT = 0.30  # m above the floor (the laser_ring link)
 CAMERA_OFFSET = (0.19, 0.0, 0.36)  # camera_link position in the chassis frame
+
+MAX_FORWARD_STEP = 0.5
+"""Longest forward step (m). Collisions are checked at each of a control step's 4 PhysX
+sub-steps, so a sub-step moves the robot at most 0.125 m, plus at most 0.125 m of the fastest
+obstacle (0.5 m per step): far less than the 0.55 m it would take to pass through the thinnest
+thing in a world (a 0.1 m wall) with the robot's 0.45 m length."""
+MAX_TURN_STEP = math.pi / 2
+"""Largest turn (rad) of one step: a sub-step turns at most pi/8, the default turn of a whole
+step, so the footprint's corners (0.29 m from its centre) move at most 0.12 m between checks."""
+
+
+def parse_action(action) -> int:
+    """The action index of ``action``: an integer in {0, 1, 2}.
+
+    Python and numpy integers, and 0-d or 1-element integer arrays or tensors, are accepted;
+    anything else (floats such as 1.5, booleans, strings, several values) is a ValueError.
+    """
+    if isinstance(action, (int, np.integer)) and not isinstance(action, (bool, np.bool_)):
+        index = int(action)
+    else:
+        if hasattr(action, "detach"):  # a torch tensor
+            action = action.detach().cpu().numpy()
+        array = action if isinstance(action, np.ndarray) else None
+        if array is None or array.size != 1 or array.dtype.kind not in "iu":
+            raise ValueError(
+                f"action must be an integer in [0, {len(ACTION_NAMES)}) ({', '.join(ACTION_NAMES)}), "
+                f"given as an int, a numpy integer or a one-element integer array; got {action!r}"
+            )
+        index = int(array.reshape(-1)[0])
+    if not 0 <= index < len(ACTION_NAMES):
+        raise ValueError(f"action must be an integer in [0, {len(ACTION_NAMES)}) ({', '.join(ACTION_NAMES)}), got {index}")
+    return index
 
 
 @dataclass
@@ -60,11 +93,22 @@ class DriveConfig(ControllerConfig):
     controller_cls = None  # set below
 
     def validate(self):
-        for name in ("forward_step", "turn_step"):
-            if not getattr(self, name) > 0:
-                raise ValueError(f"DriveConfig.{name} must be > 0, got {getattr(self, name)!r}")
-        if self.turn_forward_step < 0:
-            raise ValueError(f"DriveConfig.turn_forward_step must be >= 0, got {self.turn_forward_step!r}")
+        """Raise ValueError unless every step length is a finite number within its bounds."""
+        for name, low, high, unit in (
+            ("forward_step", 0.0, MAX_FORWARD_STEP, "m"),
+            ("turn_step", 0.0, MAX_TURN_STEP, "rad"),
+            ("turn_forward_step", None, MAX_FORWARD_STEP, "m"),
+        ):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, numbers.Real) or not math.isfinite(value):
+                raise ValueError(f"DriveConfig.{name} must be a finite number, got {value!r}")
+            above = value > low if low is not None else value >= 0
+            if not (above and value <= high):
+                lower = f"> {low}" if low is not None else ">= 0"
+                raise ValueError(
+                    f"DriveConfig.{name} must be {lower} and <= {high:.4g} {unit}, got {value!r}: a longer step "
+                    "could carry the robot through a wall or an obstacle between two collision checks"
+                )
 
 
 class DiscreteDriveController(BaseController):
@@ -83,6 +127,8 @@ class DiscreteDriveController(BaseController):
         self._px_joints = [joint._objs[0] for joint in self.joints]  # ManiSkill resolved the names
         self._dof_index = [int(i) for i in self.active_joint_indices]
         self._dof = self._px_art.dof
+        self._qvel = np.zeros(self._dof, dtype=np.float32)
+        self._commanded = None
         self.configure(self.config)
 
     def configure(self, config: DriveConfig) -> None:
@@ -107,24 +153,31 @@ class DiscreteDriveController(BaseController):
 
     def reset(self):
         self._twist = np.zeros(2)
+        self._commanded = None
 
     def set_action(self, action) -> None:
-        index = int(np.asarray(action).reshape(-1)[0]) if not isinstance(action, (int, np.integer)) else int(action)
-        if not 0 <= index < len(ACTION_NAMES):
-            raise ValueError(f"action must be an integer in [0, {len(ACTION_NAMES)}) ({', '.join(ACTION_NAMES)}), got {action!r}")
-        self._twist = self._twists[index]
+        self._twist = self._twists[parse_action(action)]
 
     def before_simulation_step(self):
-        """Turn the body-frame twist into world-frame joint velocities at the current heading."""
-        qpos = self._px_art.get_qpos()
-        yaw = qpos[self._dof_index[2]]
+        """Turn the body-frame twist into world-frame joint velocities at the current heading.
+
+        Every sub-step starts at the commanded velocity, so steps have exact lengths and no
+        lag; PhysX is only told again when the command changes (it does not change within a
+        straight move or a turn in place).
+        """
         v, w = self._twist
-        target = (v * math.cos(yaw), v * math.sin(yaw), w)
-        qvel = np.zeros(self._dof, dtype=np.float32)
-        for joint, i, t in zip(self._px_joints, self._dof_index, target):
-            joint.set_drive_velocity_target(t)
+        if v != 0.0:
+            yaw = float(self._px_art.get_qpos()[self._dof_index[2]])
+            target = (v * math.cos(yaw), v * math.sin(yaw), w)
+        else:
+            target = (0.0, 0.0, w)
+        if target != self._commanded:
+            for joint, t in zip(self._px_joints, target):
+                joint.set_drive_velocity_target(t)
+            self._commanded = target
+        qvel = self._qvel
+        for i, t in zip(self._dof_index, target):
             qvel[i] = t
-        # start every sub-step at the commanded velocity: steps have exact lengths and no lag
         self._px_art.set_qvel(qvel)
 
 

@@ -65,3 +65,62 @@ class GrayFrameStack(gym.ObservationWrapper):
     def _stacked(self, obs):
         stack = np.stack(self._frames, axis=-1)
         return {"gray": stack, "state": obs["state"]} if self._dict else stack
+
+
+class NumpyWrapper(gym.Wrapper, gym.utils.RecordConstructorArgs):
+    """A dynnav task in the plain gymnasium API: numpy observations, float rewards, bool flags,
+    no batch dimension. Wrap what ``gymnasium.make`` returned::
+
+        env = NumpyWrapper(gym.make("DynNav-MovingTarget-v1"))
+        obs, info = env.reset(seed=0)       # obs: float32 (20,)
+
+    It does what ManiSkill's ``CPUGymWrapper`` does, faster: when only gymnasium's bookkeeping
+    wrappers (order enforcing, the passive checker) stand between it and the task, a step
+    calls ``NavEnv.step_numpy`` and never makes a torch tensor; behind any other wrapper it
+    converts that wrapper's batched torch outputs. Unlike ``CPUGymWrapper`` it records its
+    arguments, so ``env.spec`` re-creates the wrapped env (``gymnasium.utils.env_checker``
+    needs that).
+    """
+
+    _TRANSPARENT = (gym.wrappers.OrderEnforcing, gym.wrappers.PassiveEnvChecker)
+
+    def __init__(self, env: gym.Env):
+        gym.utils.RecordConstructorArgs.__init__(self)
+        gym.Wrapper.__init__(self, env)
+        base = env.unwrapped
+        if not hasattr(base, "step_numpy"):
+            raise TypeError(f"NumpyWrapper wraps dynnav tasks made with gymnasium.make, got {base!r}")
+        self.observation_space = base.single_observation_space
+        self.action_space = base.single_action_space
+        inner, direct = env, True
+        while inner is not base:
+            direct = direct and isinstance(inner, self._TRANSPARENT)
+            inner = inner.env
+        self._base = base if direct else None
+
+    def reset(self, *, seed=None, options=None):
+        obs, info = self.env.reset(seed=seed, options=options)
+        if self._base is not None:
+            return self._base.numpy_observation, {**self._base.outcome(), "reconfigure": bool(_unbatch(info["reconfigure"]))}
+        return _unbatch(obs), _unbatch(info)
+
+    def step(self, action):
+        if self._base is not None:
+            return self._base.step_numpy(action)
+        obs, reward, terminated, truncated, info = self.env.step(action)
+        return _unbatch(obs), float(_unbatch(reward)), bool(_unbatch(terminated)), bool(_unbatch(truncated)), _unbatch(info)
+
+    def render(self):
+        frame = self.env.render()
+        return None if frame is None else _unbatch(frame)
+
+
+def _unbatch(x):
+    """Batched torch (or numpy) data -> the first element, as numpy (dicts recursively)."""
+    if isinstance(x, dict):
+        return {k: _unbatch(v) for k, v in x.items()}
+    if hasattr(x, "detach"):
+        x = x.detach().cpu().numpy()
+    if isinstance(x, np.ndarray) and x.ndim > 0:
+        x = x[0]
+    return x.item() if isinstance(x, np.ndarray) and x.ndim == 0 else x

@@ -60,8 +60,8 @@ def test_all_rays_match_geometry_at_random_poses(make_env, task_id):
         for _ in range(3):
             env.step(1)  # spin in place while the obstacles move on
         walls = list(base.world.arena.walls().values())
-        centers = np.concatenate([base._static_obstacle_xy, base._moving_xy])
-        obstacles = list(zip(centers, base._obstacle_half))
+        snap = base.snapshot
+        obstacles = list(zip(snap.obstacle_xy, snap.obstacle_half))
         while True:
             x, y = rng.uniform(x0 + 0.3, x1 - 0.3), rng.uniform(y0 + 0.3, y1 - 0.3)
             if all(max(abs(x - c[0]) - h[0], abs(y - c[1]) - h[1]) > 0.35 for c, h in obstacles):

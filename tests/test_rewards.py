@@ -3,18 +3,37 @@ threshold 0.8 m, orientation scale 1, gamma_p=0.9, A_p=1, B_p=-0.5)."""
 
 import math
 
+import numpy as np
 import pytest
 
-from dynnav_tasks.rewards import REWARD_MODES, RewardInputs, RewardParams, compute_reward
+from dynnav_tasks.rewards import REWARD_MODES, RewardParams, compute_reward
+from dynnav_tasks.snapshot import take_snapshot
 
 P = RewardParams()
 E04 = 1.4918246976412703  # exp(0.2 * 2.0)
 
 
-def inputs(**kw):
-    base = dict(d1=2.0, d1_prev=2.15, d2=0.5, d2_prev=0.6, bearing=0.1, bearing_prev=0.4, reached=False, collided=False)
-    base.update(kw)
-    return RewardInputs(**base)
+class Step:
+    """A step from one snapshot to the next, for the rewards' (prev, cur) interface."""
+
+    def __init__(self, prev, cur, reached=False, collided=False):
+        self.prev, self.cur, self.reached, self.collided = prev, cur, reached, collided
+
+
+def snap(d1, d2, bearing):
+    """A snapshot with these distances and bearing: robot at the origin facing +x, the target
+    d1 away at the bearing, one 0.5 m box straight behind with its near face d2 away."""
+    target = (d1 * math.cos(bearing), d1 * math.sin(bearing))
+    return take_snapshot(step=1, pose=(0.0, 0.0, 0.0), lasers=[5.0] * 16, target_xy=target, static_xy=[(-d2 - 0.25, 0.0)],
+                         moving_xy=np.zeros((0, 2)), obstacle_half=[(0.25, 0.25)], contact=False)
+
+
+def inputs(d1=2.0, d1_prev=2.15, d2=0.5, d2_prev=0.6, bearing=0.1, bearing_prev=0.4, reached=False, collided=False):
+    return Step(snap(d1_prev, d2_prev, bearing_prev), snap(d1, d2, bearing), reached, collided)
+
+
+def reward(mode, x, p=P):
+    return compute_reward(mode, x.prev, x.cur, p, reached=x.reached, collided=x.collided)
 
 
 NEAR = inputs()  # nearest obstacle 0.5 m away (<= 0.8): obstacle terms on
@@ -40,42 +59,62 @@ FAR = inputs(d2=2.0, d2_prev=2.0)  # obstacle terms off
     ],
 )
 def test_step_rewards_match_hand_values(mode, x, expected):
-    assert compute_reward(mode, x, P) == pytest.approx(expected, abs=1e-12)
+    assert reward(mode, x) == pytest.approx(expected, abs=1e-12)
 
 
 @pytest.mark.parametrize("mode", REWARD_MODES)
 def test_terminal_rewards_replace_shaping(mode):
     reach, crash = (1.0, -1.0) if mode == "sparse" else (20.0, -20.0)
-    assert compute_reward(mode, inputs(reached=True), P) == reach
-    assert compute_reward(mode, inputs(collided=True), P) == crash
+    assert reward(mode, inputs(reached=True), P) == reach
+    assert reward(mode, inputs(collided=True), P) == crash
     # a collision on the target is still a collision
-    assert compute_reward(mode, inputs(reached=True, collided=True), P) == crash
+    assert reward(mode, inputs(reached=True, collided=True), P) == crash
 
 
 def test_orientation_term_rewards_turning_towards_the_target():
-    towards = compute_reward("distance_orientation_always", inputs(d2=9, bearing=0.2, bearing_prev=-0.6), P)
-    away = compute_reward("distance_orientation_always", inputs(d2=9, bearing=-0.6, bearing_prev=0.2), P)
+    towards = reward("distance_orientation_always", inputs(d2=9, bearing=0.2, bearing_prev=-0.6))
+    away = reward("distance_orientation_always", inputs(d2=9, bearing=-0.6, bearing_prev=0.2))
     assert towards == pytest.approx(1 - E04 + 0.4)
     assert away == pytest.approx(1 - E04 - 0.4)
 
 
 def test_distance_penalty_grows_with_distance():
-    values = [compute_reward("distance", inputs(d1=d, d2=9), P) for d in (0.5, 1, 2, 4, 8)]
+    values = [reward("distance", inputs(d1=d, d2=9)) for d in (0.5, 1, 2, 4, 8)]
     assert values == sorted(values, reverse=True)
     assert values[0] == pytest.approx(1 - math.exp(0.1))
 
 
 def test_potential_penalises_standing_still():
     # gamma_p < 1: staying put loses (1 - 0.9) * Phi
-    assert compute_reward("potential", inputs(d1=2.0, d1_prev=2.0, d2=9, d2_prev=9), P) == pytest.approx(-0.05)
+    assert reward("potential", inputs(d1=2.0, d1_prev=2.0, d2=9, d2_prev=9)) == pytest.approx(-0.05)
 
 
 def test_params_change_the_constants():
     p = RewardParams(distance_gamma=0.1, obstacle_scale=1.0, obstacle_threshold=0.4)
-    assert compute_reward("distance", NEAR, p) == pytest.approx(1 - math.exp(0.2))  # 0.5 m is no longer near
-    assert compute_reward("distance", inputs(d2=0.25), p) == pytest.approx(1 - math.exp(0.2) - 4.0)
+    assert reward("distance", NEAR, p) == pytest.approx(1 - math.exp(0.2))  # 0.5 m is no longer near
+    assert reward("distance", inputs(d2=0.25), p) == pytest.approx(1 - math.exp(0.2) - 4.0)
 
 
 def test_unknown_reward_parameter_is_named():
     with pytest.raises(ValueError, match=r"'distance_gama'.*Did you mean 'distance_gamma'"):
         RewardParams.from_dict({"distance_gama": 0.3})
+
+
+def test_snapshot_geometry_is_hand_computed():
+    """Robot at (1, 1) facing north; target at (4, 5): d1 = 5, bearing = atan2(4, 3) - pi/2
+    (to the right); boxes: (1, 3) with half 0.5 -> 1.5 m, (5, 1) half 0.25 -> 3.75 m."""
+    s = take_snapshot(step=3, pose=(1.0, 1.0, math.pi / 2), lasers=np.arange(16), target_xy=(4.0, 5.0),
+                      static_xy=[(1.0, 3.0)], moving_xy=[(5.0, 1.0)], obstacle_half=[(0.5, 0.5), (0.25, 0.25)],
+                      contact=False)
+    assert s.d1 == pytest.approx(5.0) and s.d2 == pytest.approx(1.5)
+    assert s.bearing == pytest.approx(math.atan2(4, 3) - math.pi / 2) and s.bearing < 0
+    np.testing.assert_array_equal(s.moving_obstacle_xy, [[5.0, 1.0]])
+    np.testing.assert_allclose(s.state_vector(), [*range(16), 1, 1, 4, 5, 5, 1])
+    with pytest.raises(ValueError):
+        s.lasers[0] = 9.0  # read-only
+
+
+@pytest.mark.parametrize("bad", [float("nan"), float("inf"), "0.2", True])
+def test_reward_parameters_must_be_finite_numbers(bad):
+    with pytest.raises(ValueError, match=r"reward parameter 'distance_gamma' must be a finite number"):
+        RewardParams.from_dict({"distance_gamma": bad})

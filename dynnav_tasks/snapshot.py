@@ -1,0 +1,150 @@
+"""``StepSnapshot``: everything a dynnav task knows about the world after one step.
+
+A task takes exactly one snapshot after every ``reset()`` and every ``step()`` (and after
+``place_robot``), with ``take_snapshot``; nothing else computes these quantities. Success and
+failure (``NavEnv.evaluate``), the reward (``rewards.compute_reward(mode, previous, current,
+...)``), the state vector, recordings and pictures all read the snapshot, which is public
+as ``env.unwrapped.snapshot`` and immutable: its arrays are read-only.
+
+Geometry (metres, radians, world frame, z up):
+
+=================  ==========================================================================
+field              meaning
+=================  ==========================================================================
+``step``           control steps since the last reset (0 right after it)
+``pose``           the robot's (x, y, yaw), yaw counter-clockwise from +x
+``lasers``         the 16 laser readings, float32 (see ``lasers.py``)
+``target_xy``      centre of the episode's chosen target
+``obstacle_xy``    (n, 2) centres of every obstacle box: static ones first, then moving ones
+``obstacle_half``  (n, 2) half sizes of those boxes (walls are not obstacles)
+``moving_count``   how many of the boxes (the last ones) move
+``d1``             distance from the robot's centre to the target's centre
+``d2``             distance from the robot's centre to the nearest obstacle box (0 inside
+                   one; ``inf`` in a world without obstacles)
+``bearing``        the target's direction seen from the robot, relative to its heading,
+                   in [-pi, pi); > 0 when the target is to the left
+``contact``        the robot touched a wall or an obstacle during the step: a PhysX contact
+                   at one of its sub-steps, or its footprint overlapping one at the end
+                   (always False after a reset or ``place_robot``: nothing was simulated)
+``path_length``    metres the robot's centre has travelled since the reset
+=================  ==========================================================================
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .motion import wrap_angle
+
+
+def box_distance(point: np.ndarray, centers: np.ndarray, half_sizes: np.ndarray) -> np.ndarray:
+    """Distances from a 2D point to axis-aligned rectangles (0 inside)."""
+    d = np.maximum(np.abs(point[None, :] - centers) - half_sizes, 0.0)
+    return np.sqrt((d * d).sum(axis=1))
+
+
+def footprint_overlaps(pose, half, centers: np.ndarray, half_sizes: np.ndarray) -> bool:
+    """Does a rectangle of half sizes ``half`` at ``pose`` (x, y, yaw) overlap any of the
+    axis-aligned rectangles (separating-axis test on the four axes of the two shapes)?"""
+    if not len(centers):
+        return False
+    x, y, yaw = pose
+    a, b = half
+    c, s = abs(math.cos(yaw)), abs(math.sin(yaw))
+    d = np.array([x, y]) - centers
+    hx, hy = half_sizes[:, 0], half_sizes[:, 1]
+    u = d[:, 0] * math.cos(yaw) + d[:, 1] * math.sin(yaw)
+    v = -d[:, 0] * math.sin(yaw) + d[:, 1] * math.cos(yaw)
+    return bool(np.any(
+        (np.abs(d[:, 0]) < hx + a * c + b * s)
+        & (np.abs(d[:, 1]) < hy + a * s + b * c)
+        & (np.abs(u) < a + hx * c + hy * s)
+        & (np.abs(v) < b + hx * s + hy * c)
+    ))
+
+
+def _frozen(values, dtype, shape=None) -> np.ndarray:
+    array = np.array(values, dtype=dtype)  # a copy: later changes to the source do not leak in
+    if shape is not None:
+        array = array.reshape(shape)
+    array.setflags(write=False)
+    return array
+
+
+@dataclass(frozen=True)
+class StepSnapshot:
+    """The world after one step, as the task saw it (see the module docstring)."""
+
+    step: int
+    pose: tuple[float, float, float]
+    lasers: np.ndarray
+    target_xy: np.ndarray
+    obstacle_xy: np.ndarray
+    obstacle_half: np.ndarray
+    moving_count: int
+    d1: float
+    d2: float
+    bearing: float
+    contact: bool
+    path_length: float
+
+    @property
+    def robot_xy(self) -> np.ndarray:
+        """(x, y) of the robot's centre."""
+        return np.array(self.pose[:2])
+
+    @property
+    def moving_obstacle_xy(self) -> np.ndarray:
+        """(m, 2) centres of the moving obstacles, in state-vector order."""
+        return self.obstacle_xy[len(self.obstacle_xy) - self.moving_count:]
+
+    def state_vector(self) -> np.ndarray:
+        """lasers | robot x, y | target x, y | moving obstacles' x, y (float32)."""
+        return np.concatenate(
+            [self.lasers, self.pose[:2], self.target_xy, self.moving_obstacle_xy.reshape(-1)]
+        ).astype(np.float32)
+
+
+def take_snapshot(
+    *,
+    step: int,
+    pose,
+    lasers,
+    target_xy,
+    static_xy,
+    moving_xy,
+    obstacle_half,
+    contact: bool,
+    previous: StepSnapshot | None = None,
+) -> StepSnapshot:
+    """The one function that makes a ``StepSnapshot``: derives d1, d2 and the bearing.
+
+    ``previous``: the snapshot of the step before, whose path length this one extends by
+    the distance between the two poses (``None`` after a reset: the path starts at 0).
+    """
+    x, y, yaw = (float(v) for v in pose)
+    tx, ty = (float(v) for v in target_xy)
+    obstacles = np.concatenate([np.reshape(static_xy, (-1, 2)), np.reshape(moving_xy, (-1, 2))])
+    half = np.reshape(obstacle_half, (-1, 2))
+    d2 = float(box_distance(np.array([x, y]), obstacles, half).min()) if len(obstacles) else math.inf
+    path = 0.0
+    if previous is not None:
+        px, py, _ = previous.pose
+        path = previous.path_length + math.hypot(x - px, y - py)
+    return StepSnapshot(
+        step=int(step),
+        pose=(x, y, yaw),
+        lasers=_frozen(lasers, np.float32),
+        target_xy=_frozen((tx, ty), np.float64),
+        obstacle_xy=_frozen(obstacles, np.float64, (-1, 2)),
+        obstacle_half=_frozen(half, np.float64, (-1, 2)),
+        moving_count=len(np.reshape(moving_xy, (-1, 2))),
+        d1=math.hypot(tx - x, ty - y),
+        d2=d2,
+        bearing=float(wrap_angle(math.atan2(ty - y, tx - x) - yaw)),
+        contact=bool(contact),
+        path_length=path,
+    )
