@@ -1,0 +1,96 @@
+"""gymnasium's own tools on the tasks: make_vec, AsyncVectorEnv with every start method, and
+the batched ManiSkill API beside the plain one."""
+
+import multiprocessing
+
+import gymnasium as gym
+import numpy as np
+import pytest
+import torch
+from mani_skill.utils.wrappers.gymnasium import CPUGymWrapper
+
+import dynnav_tasks
+
+TASK = "DynNav-MovingTarget-v1"  # state size 20
+
+
+@pytest.mark.parametrize("mode", ["async", "sync", None])
+def test_make_vec_batches_plain_sub_environments(mode):
+    env = gym.make_vec(TASK, num_envs=2, vectorization_mode=mode)
+    try:
+        obs, info = env.reset(seed=0)
+        assert obs.shape == (2, 20) and obs.dtype == np.float32
+        assert env.single_observation_space.shape == (20,)
+        obs, reward, terminated, truncated, info = env.step(np.array([0, 1]))
+        assert obs.shape == (2, 20) and reward.shape == (2,) and terminated.shape == (2,)
+        assert info["success"].shape == (2,)
+        # the same seeds give the same episodes as single envs made by hand
+        single = dynnav_tasks.NumpyWrapper(gym.make(TASK))
+        first, _ = single.reset(seed=0)
+        expected, *_ = single.step(0)
+        single.close()
+        np.testing.assert_array_equal(obs[0], expected)
+    finally:
+        env.close()
+
+
+def _make_cpu_wrapped():
+    return CPUGymWrapper(gym.make(TASK))
+
+
+@pytest.mark.parametrize("context", ["fork", "forkserver", "spawn"])
+def test_async_vector_env_with_every_start_method(context):
+    """AsyncVectorEnv makes one env in this process first and closes it, then starts its
+    workers: with fork they inherit this process, which must not hold a dying SAPIEN scene."""
+    if context not in multiprocessing.get_all_start_methods():
+        pytest.skip(f"{context} is not available here")
+    env = gym.vector.AsyncVectorEnv([_make_cpu_wrapped, _make_cpu_wrapped], context=context)
+    try:
+        obs, _ = env.reset(seed=[3, 4])
+        assert obs.shape == (2, 20)
+        obs, reward, *_ = env.step(np.array([0, 2]))
+        assert obs.shape == (2, 20) and np.isfinite(reward).all()
+    finally:
+        env.close()
+
+
+def test_the_batched_maniskill_api_still_works():
+    env = gym.make(TASK)
+    try:
+        obs, info = env.reset(seed=0)
+        assert isinstance(obs, torch.Tensor) and obs.shape == (1, 20)
+        obs, reward, terminated, truncated, info = env.step(torch.tensor([0]))
+        assert obs.shape == (1, 20) and reward.shape == (1,) and terminated.dtype == torch.bool
+        assert info["success"].shape == (1,) and int(info["elapsed_steps"][0]) == 1
+        assert env.unwrapped.evaluate()["distance_to_target"].dtype == torch.float32
+    finally:
+        env.close()
+
+
+def test_numpy_wrapper_matches_cpu_gym_wrapper():
+    a, b = dynnav_tasks.NumpyWrapper(gym.make(TASK)), CPUGymWrapper(gym.make(TASK))
+    try:
+        assert a.observation_space == b.observation_space and a.action_space == b.action_space
+        np.testing.assert_array_equal(a.reset(seed=5)[0], b.reset(seed=5)[0])
+        for action in [0, 0, 1, 0, 2, 0, 0]:
+            ra, rb = a.step(action), b.step(action)
+            np.testing.assert_array_equal(ra[0], rb[0])
+            assert ra[1] == pytest.approx(float(rb[1]), abs=1e-6) and ra[2:4] == (bool(rb[2]), bool(rb[3]))
+            for key in ("success", "collision", "timeout", "distance_to_target", "path_length"):
+                assert ra[4][key] == pytest.approx(rb[4][key], abs=1e-6)
+    finally:
+        a.close()
+        b.close()
+
+
+def test_evaluate_changes_nothing(make_env):
+    env = make_env(TASK)
+    env.reset(seed=0)
+    env.step(0)
+    base = env.unwrapped
+    before = base.snapshot
+    first = base.evaluate()
+    for _ in range(3):
+        again = base.evaluate()
+        assert base.snapshot is before
+        assert all(torch.equal(first[k], again[k]) for k in first)
