@@ -11,8 +11,10 @@ every step), and once rendering 640x640 and averaging down to 32x32 as the thesi
     python benchmarks/env_throughput.py [--steps 5000] [--no-pin]
 
 Every figure is wall-clock steps per second, resets included, through the wrappers a user
-gets (``gym.make`` + ManiSkill's ``CPUGymWrapper``). The process is pinned to one CPU core
-and to one torch thread unless ``--no-pin``.
+gets: ``gym.make`` + ``dynnav_tasks.NumpyWrapper`` (the plain gymnasium API), and for the
+laser tasks also ``gym.make`` + ManiSkill's ``CPUGymWrapper``. The last lines give the slowest
+task with lasers (state observations) as a share of the raw SAPIEN loop of the same run.
+The process is pinned to one CPU core and to one torch thread unless ``--no-pin``.
 """
 
 from __future__ import annotations
@@ -28,11 +30,11 @@ import numpy as np
 from machine import cpu_name, pin_one_core
 
 
-def gym_steps_per_second(task_id: str, steps: int, **kwargs) -> float:
+def gym_steps_per_second(task_id: str, steps: int, wrapper=None, **kwargs) -> float:
     import gymnasium as gym
     from mani_skill.utils.wrappers.gymnasium import CPUGymWrapper
 
-    env = CPUGymWrapper(gym.make(task_id, **kwargs))
+    env = (wrapper or CPUGymWrapper)(gym.make(task_id, **kwargs))
     env.reset(seed=0)
     space = env.action_space
     space.seed(0)
@@ -110,19 +112,30 @@ def main() -> None:
     print(f"python {platform.python_version()}, sapien {sapien.__version__}, mani_skill {mani_skill.__version__}, torch {torch.__version__}")
     print(f"{args.steps} steps per figure, random actions, resets included\n")
 
-    rows = [("raw SAPIEN loop (PhysX step + 16 rays + 2 kinematic updates)", raw_sapien_steps_per_second(args.steps))]
+    from mani_skill.utils.wrappers.gymnasium import CPUGymWrapper
+
+    numpy_wrapper = dynnav_tasks.NumpyWrapper
+    raw = raw_sapien_steps_per_second(args.steps)
+    rows = [("raw SAPIEN loop (PhysX step + 16 rays + 2 kinematic updates)", raw)]
     rows.append(("ManiSkill PushCube-v1 (state, CPU)", gym_steps_per_second("PushCube-v1", args.steps, obs_mode="state", render_backend="cpu")))
+    laser = {}
     for task_id in dynnav_tasks.TASK_IDS:
-        rows.append((f"{task_id} (state)", gym_steps_per_second(task_id, args.steps)))
+        laser[task_id] = gym_steps_per_second(task_id, args.steps, numpy_wrapper)
+        rows.append((f"{task_id} (state, NumpyWrapper)", laser[task_id]))
+    for task_id in dynnav_tasks.TASK_IDS:
+        rows.append((f"{task_id} (state, CPUGymWrapper)", gym_steps_per_second(task_id, args.steps, CPUGymWrapper)))
     for task_id in dynnav_tasks.VISUAL_TASK_IDS:
-        rows.append((f"{task_id} (rgb 32x32)", gym_steps_per_second(task_id, args.steps, obs_mode="rgb")))
-    rows.append((f"{dynnav_tasks.VISUAL_TASK_IDS[-1]} (rgb 640->32)", gym_steps_per_second(dynnav_tasks.VISUAL_TASK_IDS[-1], max(args.steps // 20, 100), obs_mode="rgb", camera_render_size=640)))
+        rows.append((f"{task_id} (rgb 32x32)", gym_steps_per_second(task_id, args.steps, numpy_wrapper, obs_mode="rgb")))
+    rows.append((f"{dynnav_tasks.VISUAL_TASK_IDS[-1]} (rgb 640->32)", gym_steps_per_second(dynnav_tasks.VISUAL_TASK_IDS[-1], max(args.steps // 20, 100), numpy_wrapper, obs_mode="rgb", camera_render_size=640)))
 
     push = rows[1][1]
     width = max(len(name) for name, _ in rows)
-    print(f"{'environment':<{width}}  {'steps/s':>9}  {'x PushCube':>10}")
+    print(f"{'environment':<{width}}  {'steps/s':>9}  {'x PushCube':>10}  {'% raw SAPIEN':>12}")
     for name, rate in rows:
-        print(f"{name:<{width}}  {rate:>9.0f}  {rate / push:>10.1f}")
+        print(f"{name:<{width}}  {rate:>9.0f}  {rate / push:>10.1f}  {100 * rate / raw:>11.1f}%")
+    slowest = min(laser, key=laser.get)
+    print(f"\nslowest laser task: {slowest} at {laser[slowest]:.0f} steps/s = "
+          f"{100 * laser[slowest] / raw:.1f}% of the raw SAPIEN loop ({raw:.0f} steps/s) of this run")
 
 
 if __name__ == "__main__":

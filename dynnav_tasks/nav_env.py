@@ -22,14 +22,13 @@ State observation (``obs_mode="state"``), float32, in this order (see ``state_la
 Step
     One control step is 0.2 s (``control_freq`` 5 Hz) simulated as 4 PhysX steps of 50 ms.
     Moving obstacles are kinematic bodies moved to interpolated targets at every PhysX step.
-    ``step()`` is a lean version of ``BaseEnv.step``: it drives the PhysX objects with numpy
-    directly and hands ManiSkill batched torch tensors only at the end, which makes it several
-    times faster than the default path while returning the same types.
+    After it the task takes one ``StepSnapshot`` (``snapshot.py``); ``evaluate()``, the
+    reward and the observation are read from it. ``step_numpy`` returns the plain gymnasium
+    values (numpy, no torch at all); ``step`` (ManiSkill's batched torch API) wraps them.
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import replace
 from functools import cached_property
 from typing import Any, ClassVar, Optional
@@ -39,8 +38,6 @@ import numpy as np
 import sapien
 import torch
 from mani_skill.envs.sapien_env import BaseEnv
-from mani_skill.sensors.camera import CameraConfig
-from mani_skill.utils import sapien_utils
 from mani_skill.utils.structs.types import SceneConfig, SimConfig
 
 from . import rewards as R
@@ -51,13 +48,14 @@ from .vulkan import explain, is_vulkan_error
 from .robot import FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH, LASER_HEIGHT, DiffBot, DriveConfig
 from .scene import HIDDEN_Z, add_lighting, build_world
 from .snapshot import StepSnapshot, footprint_overlaps, take_snapshot
+from .top_down import TopDownView
 from .world import World
 
 OBS_MODES = ("state", "rgb", "rgb+state")
 FOOTPRINT_HALF = (FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH)
 
 
-class NavEnv(BaseEnv):
+class NavEnv(TopDownView, BaseEnv):
     """Base class of the dynnav navigation tasks (not registered itself)."""
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 5}
@@ -107,6 +105,7 @@ class NavEnv(BaseEnv):
         self.drive_config.validate()
         self.camera_spec = CameraSpec(size=camera_size, render_size=camera_render_size)
         self._snapshot: Optional[StepSnapshot] = None
+        self._outcome_of: Optional[StepSnapshot] = None  # outcome() of this snapshot is cached
         super().__init__(
             *args,
             obs_mode=obs_mode,
@@ -133,30 +132,6 @@ class NavEnv(BaseEnv):
         if "rgb" not in self._obs_mode:
             return []
         return [self.camera_spec.config(self.agent.robot.links_map["camera_link"])]
-
-    TOP_DOWN_SIZE: ClassVar[int] = 512
-    TOP_DOWN_HEIGHT: ClassVar[float] = 12.0
-
-    def _top_down_half_extent(self) -> float:
-        """Half the width of floor (m) the top-down picture covers."""
-        arena = self.world.arena
-        return float(max(arena.size)) / 2 + arena.wall_thickness + 0.3
-
-    @property
-    def _default_human_render_camera_configs(self):
-        """A top-down camera over the whole arena (image right = +x, image up = +y)."""
-        cx, cy = self.world.arena.center
-        h = self.TOP_DOWN_HEIGHT
-        pose = sapien_utils.look_at(eye=[cx, cy, h], target=[cx, cy, 0.0], up=[0, 1, 0])
-        fov = 2 * math.atan(self._top_down_half_extent() / h)
-        n = self.TOP_DOWN_SIZE
-        return CameraConfig("top_down", pose=pose, width=n, height=n, fov=fov, near=0.1, far=2 * h)
-
-    def top_down_pixel(self, x: float, y: float) -> tuple[float, float]:
-        """(column, row) of the floor point (x, y) in the top-down picture."""
-        cx, cy = self.world.arena.center
-        half, n = self._top_down_half_extent(), self.TOP_DOWN_SIZE
-        return n / 2 + (x - cx) / half * n / 2, n / 2 - (y - cy) / half * n / 2
 
     @cached_property
     def single_observation_space(self) -> gym.spaces.Space:
@@ -198,9 +173,8 @@ class NavEnv(BaseEnv):
         self._moving_bodies, self._moving_z = built.moving_bodies, built.moving_z
         self._static_obstacle_xy, self._obstacle_half = built.static_obstacle_xy, built.obstacle_half
         self._targets = built.targets
-        walls = list(self.world.arena.walls().values())
-        self._fixed_xy = np.concatenate([[c for c, _ in walls], self._static_obstacle_xy])
-        self._solid_half = np.concatenate([[h for _, h in walls], self._obstacle_half])
+        fixed = list(self.world.arena.walls().values()) + list(zip(self._static_obstacle_xy, self._obstacle_half))
+        self._fixed_boxes = [(float(c[0]), float(c[1]), float(h[0]), float(h[1])) for c, h in fixed]
         self._px = self.scene.px
         self._lasers = LaserRing(self._px, FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH, LASER_HEIGHT)
         self._robot_bodies = {
@@ -263,9 +237,11 @@ class NavEnv(BaseEnv):
             self._reward_mode, prev, self._snapshot, self.reward_params,
             reached=result["success"], collided=result["collision"],
         )
-        obs = self.get_obs()  # also keeps the numpy observation in self._obs_numpy
-        self._last_obs = obs
-        return self._obs_numpy if numpy_obs else obs, self._reward, result["success"] or result["collision"], result["timeout"], result
+        if numpy_obs:
+            obs = self._obs_numpy = self.observation_numpy()
+        else:
+            obs = self._last_obs = self.get_obs()  # also keeps the numpy one in self._obs_numpy
+        return obs, self._reward, result["success"] or result["collision"], result["timeout"], result
 
     def _simulate(self):
         """One control step: the robot's drive and every mover, over the PhysX sub-steps."""
@@ -301,9 +277,7 @@ class NavEnv(BaseEnv):
         """``contact=None``: after a step, from PhysX's contacts and the footprint's overlap."""
         x, y, yaw = self.agent.pose2d()
         if contact is None:
-            contact = self._in_collision() or footprint_overlaps(
-                (x, y, yaw), FOOTPRINT_HALF, self._solid_xy(), self._solid_half
-            )
+            contact = self._in_collision() or footprint_overlaps((x, y, yaw), FOOTPRINT_HALF, self._solid_boxes())
         return take_snapshot(
             step=step,
             pose=(x, y, yaw),
@@ -316,9 +290,10 @@ class NavEnv(BaseEnv):
             previous=previous,
         )
 
-    def _solid_xy(self) -> np.ndarray:
-        """Centres of everything the robot can hit: walls, static boxes, moving boxes."""
-        return np.concatenate([self._fixed_xy, self._moving_xy])
+    def _solid_boxes(self) -> list:
+        """(cx, cy, hx, hy) of everything the robot can hit: walls, static boxes, moving boxes."""
+        moving_half = self._obstacle_half[len(self._static_obstacle_xy):]
+        return self._fixed_boxes + [(*p, *h) for p, h in zip(self._moving_xy.tolist(), moving_half.tolist())]
 
     def _in_collision(self) -> bool:
         robot = self._robot_bodies
@@ -364,9 +339,11 @@ class NavEnv(BaseEnv):
         limit came first. ``evaluate`` returns the same as batched tensors.
         """
         s = self.snapshot
+        if self._outcome_of is s:
+            return dict(self._outcome)
         collision = s.contact
         success = s.d1 <= self.reach_radius and not collision
-        return dict(
+        self._outcome_of, self._outcome = s, dict(
             elapsed_steps=s.step,
             success=success,
             fail=collision,
@@ -375,6 +352,7 @@ class NavEnv(BaseEnv):
             distance_to_target=s.d1,
             path_length=s.path_length,
         )
+        return dict(self._outcome)
 
     def evaluate(self) -> dict:
         """The single source of success and failure, read from the snapshot; changes nothing."""
@@ -462,22 +440,3 @@ class NavEnv(BaseEnv):
             self._take_snapshot(step=prev.step, contact=False, previous=None), path_length=prev.path_length
         )
         return self.state_vector()
-
-    def render_top_down(self, show_all_targets: bool = False) -> np.ndarray:
-        """An RGB picture (H, W, 3) uint8 of the whole arena seen from above.
-
-        With ``show_all_targets`` every candidate target's disc is drawn at its current
-        position, not only the chosen one's.
-        """
-        hidden = []
-        if show_all_targets:
-            for t, (mover, entity) in enumerate(self._targets):
-                if t != self._target_index:
-                    p = entity.pose.p
-                    hidden.append((entity, sapien.Pose(p)))
-                    entity.set_pose(sapien.Pose([p[0], p[1], 0.0]))
-        try:
-            return self.render_rgb_array("top_down")[0].cpu().numpy()
-        finally:
-            for entity, pose in hidden:
-                entity.set_pose(pose)

@@ -46,24 +46,25 @@ def box_distance(point: np.ndarray, centers: np.ndarray, half_sizes: np.ndarray)
     return np.sqrt((d * d).sum(axis=1))
 
 
-def footprint_overlaps(pose, half, centers: np.ndarray, half_sizes: np.ndarray) -> bool:
+def footprint_overlaps(pose, half, boxes) -> bool:
     """Does a rectangle of half sizes ``half`` at ``pose`` (x, y, yaw) overlap any of the
-    axis-aligned rectangles (separating-axis test on the four axes of the two shapes)?"""
-    if not len(centers):
-        return False
+    axis-aligned ``boxes`` (cx, cy, hx, hy)? A separating-axis test on the two shapes' axes;
+    plain Python, as there are only a few boxes and most are rejected by the first test."""
     x, y, yaw = pose
     a, b = half
-    c, s = abs(math.cos(yaw)), abs(math.sin(yaw))
-    d = np.array([x, y]) - centers
-    hx, hy = half_sizes[:, 0], half_sizes[:, 1]
-    u = d[:, 0] * math.cos(yaw) + d[:, 1] * math.sin(yaw)
-    v = -d[:, 0] * math.sin(yaw) + d[:, 1] * math.cos(yaw)
-    return bool(np.any(
-        (np.abs(d[:, 0]) < hx + a * c + b * s)
-        & (np.abs(d[:, 1]) < hy + a * s + b * c)
-        & (np.abs(u) < a + hx * c + hy * s)
-        & (np.abs(v) < b + hx * s + hy * c)
-    ))
+    cos, sin = math.cos(yaw), math.sin(yaw)
+    c, s = abs(cos), abs(sin)
+    ex, ey = a * c + b * s, a * s + b * c  # the rectangle's half extents along x and y
+    for cx, cy, hx, hy in boxes:
+        dx, dy = x - cx, y - cy
+        if (
+            abs(dx) < hx + ex
+            and abs(dy) < hy + ey
+            and abs(dx * cos + dy * sin) < a + hx * c + hy * s
+            and abs(dy * cos - dx * sin) < b + hx * s + hy * c
+        ):
+            return True
+    return False
 
 
 def _frozen(values, dtype, shape=None) -> np.ndarray:
