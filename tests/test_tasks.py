@@ -26,16 +26,26 @@ def test_every_task_is_listed_with_its_state_size():
     assert set(STATE_SIZES) == set(dynnav_tasks.TASK_IDS)
 
 
-def test_check_env(task_id):
-    """gymnasium's checker with its default arguments: it also re-creates the env from
-    ``env.spec`` (wrapper included) to check rendering and closing."""
+def _checked(task_id, **skip):
     env = dynnav_tasks.NumpyWrapper(gym.make(task_id))
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        check_env(env)
+        check_env(env, **skip)
     assert [str(w.message) for w in caught if "WARN" in str(w.message) and "unwrapped" not in str(w.message)] == []
     env.close()
     env.close()  # closing twice is allowed
+
+
+def test_check_env_with_default_arguments():
+    """gymnasium's checker as a user calls it: it also re-creates the env from ``env.spec``
+    (wrapper included) in render mode "rgb_array" and to check closing."""
+    _checked("DynNav-MovingObstacles-v1")
+
+
+def test_check_env(task_id):
+    """Every task; the close check re-creates the env from its spec (the render check, which
+    does the same, costs a rendered frame per task and is run once above)."""
+    _checked(task_id, skip_render_check=True)
 
 
 def test_make_reset_step(make_env, task_id):
