@@ -276,18 +276,11 @@ class Args:
 
 
 def main(args: Args) -> None:
-    from . import VISUAL_TASK_IDS, check_choice
+    from . import VISUAL_TASK_IDS
+    from .cli import run_over_tasks
 
-    try:
-        tasks = [check_choice(args.task, VISUAL_TASK_IDS, "camera task id")] if args.task else list(VISUAL_TASK_IDS)
-    except ValueError as err:
-        raise SystemExit(f"error: {err}")
-    if args.episodes < 1:
-        raise SystemExit(f"error: --episodes must be >= 1, got {args.episodes}")
-    seeds = range(args.first_seed, args.first_seed + args.episodes)
-    for task in tasks:
-        print(run_pilot(task, seeds, progress=True).summary())
-
+    run_over_tasks(args.task, VISUAL_TASK_IDS, "camera task id", args.episodes, args.first_seed,
+                   lambda task, seeds: run_pilot(task, seeds, progress=True))
 
 if __name__ == "__main__":
     main(tyro.cli(Args))

@@ -264,17 +264,11 @@ class Args:
 
 
 def main(args: Args) -> None:
-    from . import TASK_IDS, check_choice
+    from . import TASK_IDS
+    from .cli import run_over_tasks
 
-    try:
-        tasks = [check_choice(args.task, TASK_IDS, "task id")] if args.task else list(TASK_IDS)
-    except ValueError as err:
-        raise SystemExit(f"error: {err}")
-    if args.episodes < 1:
-        raise SystemExit(f"error: --episodes must be >= 1, got {args.episodes}")
-    for task in tasks:
-        print(run_planner(task, range(args.first_seed, args.first_seed + args.episodes), progress=True).summary())
-
+    run_over_tasks(args.task, TASK_IDS, "task id", args.episodes, args.first_seed,
+                   lambda task, seeds: run_planner(task, seeds, progress=True))
 
 if __name__ == "__main__":
     main(tyro.cli(Args))
