@@ -1,7 +1,8 @@
 """Make a training or test environment from a task id.
 
-dynnav tasks are ManiSkill tasks: they are wrapped in ManiSkill's ``CPUGymWrapper`` (numpy,
-unbatched) and take the reward options. Any other gymnasium id is made as it is and must have
+dynnav tasks are ManiSkill tasks: they are wrapped in ``dynnav_tasks.NumpyWrapper`` (numpy,
+unbatched, the same values as ManiSkill's ``CPUGymWrapper`` without the torch round trip) and
+take the reward options. Any other gymnasium id is made as it is and must have
 a ``Discrete`` action space and a one-dimensional ``Box`` observation space.
 """
 
@@ -59,15 +60,13 @@ def make_env(task: str, reward_mode: str | None = None, reward_params: dict | No
     check_task(task)
     if is_dynnav(task):
         import dynnav_tasks
-        from mani_skill.utils.wrappers.gymnasium import CPUGymWrapper
-
         kwargs = {"reward_params": dict(reward_params or {}), **dict(task_kwargs or {})}
         if reward_mode is not None:
             kwargs["reward_mode"] = reward_mode
         if camera_frames:
             kwargs["obs_mode"] = "rgb+state"
         try:
-            env = CPUGymWrapper(dynnav_tasks.make(task, **kwargs))
+            env = dynnav_tasks.NumpyWrapper(dynnav_tasks.make(task, **kwargs))
         except TypeError as err:  # an unknown keyword argument
             raise ValueError(f"{task}: {err}") from err
         if camera_frames >= 2:

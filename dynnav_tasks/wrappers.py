@@ -43,7 +43,7 @@ class GrayFrameStack(gym.ObservationWrapper):
         if not (isinstance(image, gym.spaces.Box) and image.dtype == np.uint8 and image.shape[-1:] == (3,)):
             raise ValueError(
                 "GrayFrameStack needs camera observations: make the task with obs_mode='rgb' or "
-                f"'rgb+state' and wrap it in CPUGymWrapper first (got observation space {space})"
+                f"'rgb+state' and wrap it in NumpyWrapper or CPUGymWrapper first (got observation space {space})"
             )
         h, w, _ = image.shape
         self.num_frames = num_frames
