@@ -17,7 +17,8 @@ reward_mode                        reward of a step that neither reaches nor col
 ``distance_orientation`` (4.5)     1 - exp(g d1') - A / d2' when near, else 1 - exp(g d1') + r_o
 ``distance_orientation_always``    1 - exp(g d1') + r_o [- A / d2' when near]   (default)
 (Eq. 4.6)
-``potential`` (Eq. 4.9)            gamma_p * Phi(s') - Phi(s), Phi = A_p / d1 [+ B_p / d2 near]
+``potential`` (Eq. 4.8/4.9)        gamma_p * Phi(s') - Phi(s), Phi = A_p / d1 [+ B_p / d2 near]
+``potential_as_written`` (4.9)     near: as ``potential``; else gamma_p * (A_p / d1' - A_p / d1)
 =================================  ===========================================================
 
 All but ``sparse`` give +20 on reaching the target and -20 on a collision, alone (no
@@ -35,11 +36,15 @@ Readings chosen where the thesis is ambiguous (each is tested in tests/test_rewa
   from the robot*, relative to its heading, alpha = wrap(atan2(y_t - y, x_t - x) - yaw), and
   r_o = (|alpha| - |alpha'|) * ``orientation_scale``: positive when a step turns the robot
   towards the target, negative when it turns away.
-* Eq. 4.9's second branch reads ``gamma (A/d1' - A/d1)``, which is not a potential difference
-  and gives nothing for standing still, contradicting the text ("the agent will get penalty
-  even though it stays in the same position"). We use potential-based shaping as the text
-  describes, F = gamma_p * Phi(s') - Phi(s), with the obstacle term B_p / d2 in Phi only when
-  near an obstacle.
+* Eq. 4.9's far-from-obstacles branch reads ``gamma (A/d1' - A/d1)``, gamma multiplying both
+  terms: not a potential difference, and it gives nothing for standing still, contradicting
+  the text ("the agent will get penalty even though it stays in the same position") and
+  Eq. 4.8. Both readings are offered: ``potential`` is potential-based shaping as Eq. 4.8 and
+  the text describe, F = gamma_p * Phi(s') - Phi(s), with the obstacle term B_p / d2 in Phi
+  only when near an obstacle; ``potential_as_written`` is Eq. 4.9 letter for letter (its near
+  branch is the same as ``potential``'s). At gamma_p = 1 the two are the same function.
+* A_p: the study says only that the potential "can be adjusted according to the learning
+  efficiency"; it is ``potential_target`` (default 1.0), set per experiment in its config.
 """
 
 from __future__ import annotations
@@ -54,6 +59,7 @@ REWARD_MODES = (
     "distance_orientation",
     "distance",
     "potential",
+    "potential_as_written",
     "sparse",
 )
 DEFAULT_REWARD_MODE = "distance_orientation_always"
@@ -162,11 +168,18 @@ def potential_shaping(prev: Geometry, cur: Geometry, p: RewardParams) -> float:
     return p.potential_gamma * potential(cur.d1, cur.d2, p) - potential(prev.d1, prev.d2, p)
 
 
+def potential_as_written(prev: Geometry, cur: Geometry, p: RewardParams) -> float:
+    if _near(cur.d2, p):
+        return potential_shaping(prev, cur, p)
+    return p.potential_gamma * (p.potential_target / cur.d1 - p.potential_target / prev.d1)
+
+
 _SHAPED = {
     "distance": distance,
     "distance_orientation": distance_orientation,
     "distance_orientation_always": distance_orientation_always,
     "potential": potential_shaping,
+    "potential_as_written": potential_as_written,
 }
 
 

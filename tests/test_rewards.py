@@ -55,6 +55,9 @@ FAR = inputs(d2=2.0, d2_prev=2.0)  # obstacle terms off
         # Phi' = 1/2 - 0.5/0.5 = -0.5 ; Phi = 1/2.15 - 0.5/0.6 ; F = 0.9 Phi' - Phi
         ("potential", NEAR, 0.9 * -0.5 - (1 / 2.15 - 0.5 / 0.6)),
         ("potential", FAR, 0.9 * 0.5 - 1 / 2.15),
+        # Eq. 4.9 as written: the same near an obstacle, gamma (A/d1' - A/d1) elsewhere
+        ("potential_as_written", NEAR, 0.9 * -0.5 - (1 / 2.15 - 0.5 / 0.6)),
+        ("potential_as_written", FAR, 0.9 * (0.5 - 1 / 2.15)),
         ("sparse", NEAR, -0.01),
     ],
 )
@@ -87,6 +90,19 @@ def test_distance_penalty_grows_with_distance():
 def test_potential_penalises_standing_still():
     # gamma_p < 1: staying put loses (1 - 0.9) * Phi
     assert reward("potential", inputs(d1=2.0, d1_prev=2.0, d2=9, d2_prev=9)) == pytest.approx(-0.05)
+
+
+def test_potential_as_written_pays_nothing_for_standing_still():
+    still = inputs(d1=2.0, d1_prev=2.0, d2=9, d2_prev=9)
+    assert reward("potential_as_written", still) == 0.0
+    closer = reward("potential_as_written", inputs(d1=1.9, d1_prev=2.0, d2=9, d2_prev=9))
+    assert closer == pytest.approx(0.9 * (1 / 1.9 - 1 / 2.0))
+
+
+def test_the_two_potential_readings_agree_at_gamma_1():
+    p = RewardParams(potential_gamma=1.0, potential_target=3.0)
+    for x in (NEAR, FAR, inputs(d1=1.0, d1_prev=1.2, d2=9, d2_prev=9)):
+        assert reward("potential_as_written", x, p) == pytest.approx(reward("potential", x, p), abs=1e-12)
 
 
 def test_params_change_the_constants():
