@@ -16,6 +16,14 @@ experiment, over the seeds whose test phase has run:
   "never" if the run ends at 0%); mean over seeds.
 * wall-clock: mean per run of training time (metrics.csv's wall_time_s, summed over restarts)
   plus the test phase.
+* ceiling: the success rate of ``dynnav_tasks.state_planner`` (a planner that sees the full
+  state) on the experiment's task, from ``--ceilings`` (default docs/results/ceilings.json next
+  to the report, written by ``python -m dynnav_tasks.state_planner --out ...``).
+
+The study's numbered cells (a success rate stated as a number, not read off a curve) get a
+table of their own: per cell, the best row among the study's experiment and its named variants,
+the experiments whose names start with its name (``moving_obstacles_5_3_ddqn`` competes for
+``moving_obstacles_5_3``).
 
 Figures (``--figures``, default docs/results next to the report): reward and Q-loss curves of
 the experiments the study compared, each the 100-episode moving average of the mean over seeds.
@@ -161,9 +169,64 @@ def _pct(x) -> str:
     return "-" if x is None else f"{x:.0%}"
 
 
+def study_rate(experiment: str) -> float | None:
+    """The study's success rate of a numbered cell (e.g. "93% (Sec. 6.1...)" -> 0.93); None for
+    the experiments whose success the study does not state as a number."""
+    text = THESIS.get(experiment, {}).get("success", "")
+    digits = text.split("%")[0]
+    return float(digits) / 100 if "%" in text and digits.isdigit() else None
+
+
+def cell_of(experiment: str) -> str | None:
+    """The study's experiment a run competes with: itself, or the longest study name it extends."""
+    if experiment in THESIS:
+        return experiment
+    owners = [e for e in THESIS if experiment.startswith(e + "_")]
+    return max(owners, key=len) if owners else None
+
+
+def load_ceilings(path: str | Path | None) -> dict[str, float]:
+    """task id -> the planner's success rate, from a JSON file the planner wrote (empty if none)."""
+    if path is None or not Path(path).is_file():
+        return {}
+    try:
+        data = json.loads(Path(path).read_text())
+        return {task: float(v["success"]) for task, v in data.items()}
+    except (ValueError, KeyError, TypeError, AttributeError) as err:
+        raise ValueError(f"ceilings file {str(path)!r} is not what dynnav_tasks.state_planner --out writes: {err}")
+
+
+def cells_table(summaries: dict[str, dict], tasks: dict[str, str], ceilings: dict[str, float]) -> list[str]:
+    """Per numbered cell of the study: its best row (the study's method or a named variant)."""
+    lines = ["## The study's numbered cells", "",
+             "Per success rate the study states as a number: our best experiment for it, the study's own "
+             "configuration or a named variant (an experiment whose name extends the study's), with its "
+             "95% interval over seeds.", "",
+             "| study's experiment | study | our best row | seeds | success (95% CI) | ceiling | at or above |",
+             "|---|---|---|---|---|---|---|"]
+    for cell in THESIS:
+        target = study_rate(cell)
+        if target is None:
+            continue
+        rows = [e for e, s in summaries.items() if cell_of(e) == cell and s["seeds"]]
+        if not rows:
+            lines.append(f"| `{cell}` | {target:.0%} | not run | 0 | - | - | - |")
+            continue
+        best = max(rows, key=lambda e: summaries[e]["success"])
+        s = summaries[best]
+        lo, hi = s["ci"]
+        ceiling = ceilings.get(tasks[best])
+        lines.append(f"| `{cell}` | {target:.0%} | `{best}` | {s['seeds']} | {s['success']:.0%} ({lo:.0%}-{hi:.0%}) | "
+                     f"{_pct(ceiling)} | {'yes' if s['success'] >= target - 1e-9 else 'no'} |")
+    return lines
+
+
 def render(groups: dict[str, list[dict]], figures: list[tuple[str, str]], sources: list[str],
-           discussion: str = "") -> str:
+           discussion: str = "", ceilings: dict[str, float] | None = None) -> str:
+    ceilings = ceilings or {}
     order = [e for e in THESIS if e in groups] + sorted(e for e in groups if e not in THESIS)
+    summaries = {e: summarize(groups[e]) for e in order}
+    tasks = {e: groups[e][0]["task"] for e in order}
     lines = ["# Results", "",
              "Test success (100 episodes per run in the study's configs, epsilon 0) per experiment, beside the study's number. "
              "Made by `python -m agents.report " + " ".join(sources) + "`; the method is in `agents/report.py`: "
@@ -171,18 +234,22 @@ def render(groups: dict[str, list[dict]], figures: list[tuple[str, str]], source
              "episodes when there is one seed); steps are those of successful test episodes; *converge* is the "
              "first training episode at which the 100-episode success rate reaches 90% of its final value; "
              "wall-clock is training plus test per run on one core (sum of episode times, checkpoints and "
-             "auto-encoder updates not counted).", "",
-             "| experiment | task | seeds | success (95% CI) | study | steps | converge (episodes) | study | "
-             "wall-clock | per seed |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
+             "auto-encoder updates not counted); *ceiling* is the success rate of a planner that sees the full "
+             "state (`dynnav_tasks.state_planner`) in the same world.", ""]
+    if any(study_rate(e) is not None for e in THESIS):
+        lines += cells_table(summaries, tasks, ceilings) + ["", "## Every experiment", ""]
+    lines += ["| experiment | task | seeds | success (95% CI) | study | ceiling | steps | converge (episodes) | study | "
+              "wall-clock | per seed |",
+              "|---|---|---|---|---|---|---|---|---|---|---|"]
     unfinished = []
     for e in order:
-        s = summarize(groups[e])
+        s = summaries[e]
         t = THESIS.get(e, dict(success="not in the study", converge="-"))
         unfinished += s["unfinished"]
-        task = groups[e][0]["task"]
+        task = tasks[e]
+        ceiling = _pct(ceilings.get(task))
         if not s["seeds"]:
-            lines.append(f"| `{e}` | {task} | 0 | not finished | {t.get('success', '-')} | | | "
+            lines.append(f"| `{e}` | {task} | 0 | not finished | {t.get('success', '-')} | {ceiling} | | | "
                          f"{t.get('converge', '-')} | | |")
             continue
         lo, hi = s["ci"]
@@ -191,7 +258,7 @@ def render(groups: dict[str, list[dict]], figures: list[tuple[str, str]], source
             conv = f"never in {s['never']} of {s['seeds']}"
         lines.append(
             f"| `{e}` | {task} | {s['seeds']} | {s['success']:.0%} ({lo:.0%}-{hi:.0%}, {s['ci_kind']}) | "
-            f"{t.get('success', '-')} | {'-' if s['steps'] is None else format(s['steps'], '.1f')} | {conv} (of "
+            f"{t.get('success', '-')} | {ceiling} | {'-' if s['steps'] is None else format(s['steps'], '.1f')} | {conv} (of "
             f"{s['episodes']}) | {t.get('converge', '-')} | {'-' if s['wall'] is None else format(s['wall'], '.0f') + ' s'} | "
             f"{' '.join(_pct(x) for x in s['per_seed'])} |")
     if any(e in THESIS for e in order):
@@ -215,9 +282,13 @@ def render(groups: dict[str, list[dict]], figures: list[tuple[str, str]], source
 
 
 def write_report(paths: list[str | Path], out: str | Path = "RESULTS.md", figures_dir: str | Path | None = None,
-                 discussion: str | Path | None = None) -> Path:
-    """Write the report; ``discussion``: a Markdown file inserted after the table (written by hand)."""
+                 discussion: str | Path | None = None, ceilings: str | Path | None = None) -> Path:
+    """Write the report; ``discussion``: a Markdown file inserted after the table (written by hand);
+    ``ceilings``: the planner's JSON (default docs/results/ceilings.json next to ``out``, if there)."""
     out = Path(out)
+    if ceilings is not None and not Path(ceilings).is_file():
+        raise ValueError(f"ceilings file {str(ceilings)!r} does not exist")
+    ceiling_rates = load_ceilings(ceilings if ceilings is not None else out.parent / "docs" / "results" / "ceilings.json")
     text = ""
     if discussion is not None:
         if not Path(discussion).is_file():
@@ -237,7 +308,7 @@ def write_report(paths: list[str | Path], out: str | Path = "RESULTS.md", figure
             path = figures_dir / f"{stem}.png"
             draw_figure(path, title, present)
             written.append((os.path.relpath(path.resolve(), out.parent.resolve()), title))
-    atomic_write_bytes(out, render(groups, written, [str(p) for p in paths], text).encode())
+    atomic_write_bytes(out, render(groups, written, [str(p) for p in paths], text, ceiling_rates).encode())
     return out
 
 
@@ -248,9 +319,12 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--figures", default=None, help="folder for the PNGs (default docs/results next to --out)")
     parser.add_argument("--discussion", default=None,
                         help="Markdown file inserted after the table: why results differ from the study's")
+    parser.add_argument("--ceilings", default=None,
+                        help="the planner's success rates per task (python -m dynnav_tasks.state_planner --out FILE); "
+                             "default docs/results/ceilings.json next to --out, if it exists")
     args = parser.parse_args(argv)
     try:
-        out = write_report(args.paths, args.out, args.figures, args.discussion)
+        out = write_report(args.paths, args.out, args.figures, args.discussion, args.ceilings)
     except ValueError as err:
         raise SystemExit(f"error: {err}")
     print(f"wrote {out}")

@@ -261,6 +261,9 @@ class Args:
     """episodes per task (seeds first_seed .. first_seed + episodes - 1)"""
     first_seed: int = 0
     """seed of the first episode"""
+    out: Optional[str] = None
+    """also write each task's success, collision and timeout rates into this JSON file (merged
+    with what it holds, one entry per task), e.g. docs/results/ceilings.json for agents.report"""
 
 
 def main(args: Args) -> None:
@@ -268,7 +271,7 @@ def main(args: Args) -> None:
     from .cli import run_over_tasks
 
     run_over_tasks(args.task, TASK_IDS, "task id", args.episodes, args.first_seed,
-                   lambda task, seeds: run_planner(task, seeds, progress=True))
+                   lambda task, seeds: run_planner(task, seeds, progress=True), out=args.out)
 
 if __name__ == "__main__":
     main(tyro.cli(Args))

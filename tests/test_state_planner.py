@@ -1,5 +1,7 @@
 """The full-state planner: its forecasts contain where obstacles really go, and it drives."""
 
+import json
+
 import numpy as np
 import pytest
 
@@ -55,3 +57,26 @@ def test_a_wandering_obstacle_stays_in_its_growing_box():
 def test_the_planner_crosses_the_loop_of_world_5_3():
     result = run_planner("DynNav-MovingObstacles-v1", range(5))
     assert result.outcomes == ["success"] * 5, result.summary()
+
+
+def test_out_file_collects_each_tasks_rates_and_refuses_junk(tmp_path, capsys):
+    from types import SimpleNamespace
+
+    from dynnav_tasks.cli import run_over_tasks
+
+    def fake_run(task, seeds):
+        outcomes = ["success"] * (len(seeds) - 1) + ["collision"]
+        return SimpleNamespace(outcomes=outcomes, summary=lambda: f"{task}: done")
+
+    out = tmp_path / "ceilings.json"
+    run_over_tasks("A", ["A", "B"], "task id", 4, 7, fake_run, out=str(out))
+    run_over_tasks("B", ["A", "B"], "task id", 2, 0, fake_run, out=str(out))
+    data = json.loads(out.read_text())
+    assert data["A"] == dict(success=0.75, collision=0.25, timeout=0.0, episodes=4, first_seed=7)
+    assert data["B"]["success"] == 0.5 and data["B"]["episodes"] == 2
+    assert [p.name for p in tmp_path.iterdir()] == ["ceilings.json"]  # no temporary files left
+    out.write_text("not json")
+    with pytest.raises(SystemExit, match="is not a JSON file"):
+        run_over_tasks("A", ["A", "B"], "task id", 1, 0, fake_run, out=str(out))
+    with pytest.raises(SystemExit, match="does not exist"):
+        run_over_tasks("A", ["A", "B"], "task id", 1, 0, fake_run, out=str(tmp_path / "no" / "c.json"))

@@ -123,3 +123,43 @@ def test_episodes_to_converge():
     assert episodes_to_converge(success) == 389
     assert episodes_to_converge(np.zeros(500)) is None  # never learned
     assert episodes_to_converge(np.ones(50)) is None  # shorter than one window
+
+
+def _done(task: str, success: float) -> dict:
+    """A finished run as agents.report loads it (100 test episodes)."""
+    return dict(finished=True, task=task, success=success, n=100, steps=40.0, converge=1000, wall=60.0,
+                trained=4000, metrics={}, seed=1, experiment="")
+
+
+def test_report_picks_each_numbered_cells_best_row_and_shows_the_ceiling(tmp_path):
+    from agents.report import cell_of, render, study_rate
+    from agents.thesis_results import THESIS
+
+    assert sum(study_rate(e) is not None for e in THESIS) == 14  # the study's numbered cells
+    assert study_rate("moving_obstacles_5_3") == pytest.approx(0.93)
+    assert study_rate("motion_areas_route_5_4b") is None  # "~94%": read off a curve
+    assert cell_of("moving_obstacles_5_3_ddqn") == "moving_obstacles_5_3"
+    assert cell_of("potential_gamma_0_9_5_3_as_written") == "potential_gamma_0_9_5_3"
+    assert cell_of("frames_4_5_5c_pixels") == "frames_4_5_5c"
+    assert cell_of("something_else") is None
+
+    task = "DynNav-MovingObstacles-v1"
+    groups = {"moving_obstacles_5_3": [_done(task, 0.80), _done(task, 0.82)],
+              "moving_obstacles_5_3_ddqn": [_done(task, 0.95), _done(task, 0.97)]}
+    text = render(groups, [], ["sweeps/x"], ceilings={task: 0.995})
+    cells = text.split("## The study's numbered cells")[1].split("## Every experiment")[0]
+    row = next(line for line in cells.splitlines() if line.startswith("| `moving_obstacles_5_3`"))
+    assert "`moving_obstacles_5_3_ddqn` | 2 | 96% (" in row and row.endswith("| 100% | yes |")  # 99.5% shown as 100%
+    assert "| `camera_5_5a` | 93% | not run |" in cells
+    full = next(line for line in text.split("## Every experiment")[1].splitlines()
+                if line.startswith("| `moving_obstacles_5_3` |"))
+    assert "| 81% (" in full and "| 100% |" in full
+
+
+def test_report_refuses_a_ceilings_file_it_cannot_read(tmp_path, sweep):
+    _, out, _ = sweep
+    bad = tmp_path / "ceilings.json"
+    bad.write_text('{"DynNav-MovingTarget-v1": 0.9}')
+    with pytest.raises(ValueError, match="not what dynnav_tasks.state_planner --out writes"):
+        write_report([out], tmp_path / "R.md", ceilings=bad)
+    assert not (tmp_path / "R.md").exists() and not (tmp_path / "docs").exists()  # nothing written
