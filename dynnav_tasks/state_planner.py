@@ -142,8 +142,9 @@ class StatePlanner:
     """the robot's centre keeps this far from every wall and box (m)"""
     horizon: int = 60
     """steps planned ahead"""
-    max_expansions: int = 6000
-    """search budget per step; past it the planner heads for the best node found"""
+    max_expansions: int = 30000
+    """search budget per step; past it the planner heads for the best node found (with 6000 it
+    cut through 5.5c's obstacle areas in 4 of 30 episodes instead of finding the lane around them)"""
     cell: float = 0.05
     """grid (m) on which two search nodes at the same step count as one"""
 
@@ -261,6 +262,8 @@ class Args:
     """episodes per task (seeds first_seed .. first_seed + episodes - 1)"""
     first_seed: int = 0
     """seed of the first episode"""
+    max_expansions: int = StatePlanner.max_expansions
+    """search budget per step (A* nodes)"""
     out: Optional[str] = None
     """also write each task's success, collision and timeout rates into this JSON file (merged
     with what it holds, one entry per task), e.g. docs/results/ceilings.json for agents.report"""
@@ -271,7 +274,8 @@ def main(args: Args) -> None:
     from .cli import run_over_tasks
 
     run_over_tasks(args.task, TASK_IDS, "task id", args.episodes, args.first_seed,
-                   lambda task, seeds: run_planner(task, seeds, progress=True), out=args.out)
+                   lambda task, seeds: run_planner(task, seeds, progress=True, max_expansions=args.max_expansions),
+                   out=args.out)
 
 if __name__ == "__main__":
     main(tyro.cli(Args))
