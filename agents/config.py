@@ -24,13 +24,18 @@ class EnvConfig:
     """Task options (dynnav tasks)."""
 
     reward_mode: Optional[str] = None
-    """dynnav reward function (sparse, distance, distance_orientation, distance_orientation_always, potential); None: the task's default"""
+    """dynnav reward function (sparse, distance, distance_orientation, distance_orientation_always, potential,
+    potential_as_written); None: the task's default"""
     reward_params: dict[str, float] = field(default_factory=dict)
     """dynnav overrides of dynnav_tasks.rewards.RewardParams, e.g. potential_gamma 0.95"""
     task_kwargs: dict[str, TaskOption] = field(default_factory=dict)
     """dynnav task options, e.g. turn_forward_step 0.05 camera_size 32 (integers stay integers)"""
     normalize_obs: bool = True
     """scale every bounded state component to [-1, 1] using the observation space's bounds"""
+    state_frames: int = 1
+    """state-vector runs: the Q-network reads the last N state vectors, oldest first, the first one
+    repeated after a reset (beyond the study, which used 1: one state holds the obstacles'
+    positions but not their speeds, two show how they move)"""
 
 
 @dataclass

@@ -162,7 +162,7 @@ def save_yaml(config: Config, path: str | Path) -> None:
 # ---------------------------------------------------------------------------------------- validation
 POSITIVE = ["episodes", "checkpoint_every", "batch_size", "buffer_size", "train_frequency", "target_update_interval",
             "eval_episodes", "lr_decay_episodes", "rerun_every", "ae_dense", "ae_update_every", "ae_batch_size",
-            "ae_pictures_every"]
+            "ae_pictures_every", "state_frames"]
 NOT_NEGATIVE = ["learning_starts", "random_episodes", "epsilon_decay_episodes", "camera_frames", "ae_latent",
                 "ae_first_update", "ae_updates", "ae_iterations", "ae_batches", "pixel_shift"]
 
@@ -200,6 +200,9 @@ def validate(c: Config) -> None:
     if cam.camera_state and not cam.camera_frames:
         raise ValueError("camera_state selects state parts to feed beside the camera: set camera_frames too "
                          "(without a camera the whole state vector is used)")
+    if c.env.state_frames > 1 and cam.camera_frames:
+        raise ValueError("state_frames stacks state vectors for runs without a camera; with camera_frames, "
+                         "camera_frames N >= 2 already stacks frames")
     if cam.camera_input == "pixels" and not cam.camera_frames:
         raise ValueError("camera_input pixels reads camera frames: set camera_frames (1: RGB, N >= 2: N gray frames)")
     check_device(c.run.device)

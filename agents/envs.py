@@ -52,10 +52,11 @@ def state_slices(layout: list[tuple[str, int]]) -> dict[str, slice]:
 
 
 def make_env(task: str, reward_mode: str | None = None, reward_params: dict | None = None,
-             task_kwargs: dict | None = None, camera_frames: int = 0) -> gym.Env:
+             task_kwargs: dict | None = None, camera_frames: int = 0, state_frames: int = 1) -> gym.Env:
     """The environment for ``task`` with the plain gymnasium API (numpy in, numpy out).
 
-    ``camera_frames`` 0: observations are the state vector; 1: ``{"rgb": frame, "state": vector}``;
+    ``camera_frames`` 0: observations are the state vector (with ``state_frames`` N >= 2, the
+    last N state vectors, oldest first, as one flat vector); 1: ``{"rgb": frame, "state": vector}``;
     N >= 2: ``{"gray": last N gray frames, "state": vector}`` (dynnav tasks only)."""
     check_task(task)
     if is_dynnav(task):
@@ -87,6 +88,10 @@ def make_env(task: str, reward_mode: str | None = None, reward_params: dict | No
     if not isinstance(space, gym.spaces.Box) or len(space.shape) != 1:
         env.close()
         raise ValueError(f"{task!r} observations are {space}; this agent needs a one-dimensional Box")
+    if state_frames > 1:
+        from gymnasium.wrappers import FlattenObservation, FrameStackObservation
+
+        env = FlattenObservation(FrameStackObservation(env, state_frames, padding_type="reset"))
     return env
 
 
@@ -116,4 +121,4 @@ def make_env_from(config, **task_kwargs) -> gym.Env:
     are added to the config's)."""
     e = config.env
     return make_env(config.task, e.reward_mode, e.reward_params, {**e.task_kwargs, **task_kwargs},
-                    config.camera.camera_frames)
+                    config.camera.camera_frames, e.state_frames)

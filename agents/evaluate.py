@@ -15,17 +15,12 @@ from pathlib import Path
 
 import numpy as np
 
-from .envs import is_dynnav, state_slices
+from .envs import is_dynnav
 from .eval_report import draw_trajectories, write_results
 from .policy import Policy, load_policy
 from .rollout import greedy, open_recorder, rollout
 from .stats import spl, summarize
 from .threads import limit_threads
-
-
-def state_of(obs):
-    """The state vector of an observation (camera runs observe ``{"rgb" or "gray": ..., "state": ...}``)."""
-    return obs["state"] if isinstance(obs, dict) else obs
 
 
 def run_episodes(policy: Policy, episodes: int, seed: int, recorder=None, latents: list | None = None,
@@ -37,7 +32,6 @@ def run_episodes(policy: Policy, episodes: int, seed: int, recorder=None, latent
     latent runs, receives (latent, target index, reward) per step."""
     env = policy.env
     dynnav = is_dynnav(policy.config.task)
-    parts = state_slices(env.unwrapped.state_layout()) if dynnav else {}
     reach = float(env.unwrapped.reach_radius) if dynnav else 0.0
     n_actions = int(env.action_space.n)
     records = []
@@ -45,14 +39,14 @@ def run_episodes(policy: Policy, episodes: int, seed: int, recorder=None, latent
         path, start = [], {}
 
         def on_reset(obs):
-            if dynnav:
-                start["robot"] = state_of(obs)[parts["robot_xy"]].copy()
-                start["target"] = state_of(obs)[parts["target_xy"]].copy()
+            if dynnav:  # the task's snapshot, whatever the observation holds
+                snapshot = env.unwrapped.snapshot
+                start["robot"], start["target"] = snapshot.robot_xy, np.array(snapshot.target_xy)
                 path.append(start["robot"].tolist())
 
         def on_step(action, reward, obs, terminated, truncated, info):
             if dynnav:
-                path.append(state_of(obs)[parts["robot_xy"]].tolist())
+                path.append(list(env.unwrapped.snapshot.pose[:2]))
             latent = getattr(policy.features, "last_latent", None)
             if latents is not None and latent is not None:
                 latents.append((latent, env.unwrapped.target_index, reward))

@@ -167,3 +167,24 @@ def test_integer_task_options_stay_integers(tmp_path):
         assert env.observation_space["rgb"].shape == (16, 16, 3)
     finally:
         env.close()
+
+
+def test_state_frames_stack_the_last_states_oldest_first():
+    import numpy as np
+
+    env = make_env("DynNav-MovingObstacles-v1", state_frames=2)
+    try:
+        assert env.observation_space.shape == (48,)
+        first, _ = env.reset(seed=3)
+        assert np.array_equal(first[:24], first[24:])  # a reset repeats the first state
+        second, *_ = env.step(0)
+        assert np.array_equal(second[:24], first[24:])  # the older state first
+        moved = second[44:48] - second[20:24]  # the two obstacles' motion over the step
+        speed = np.linalg.norm(moved.reshape(2, 2), axis=1)
+        assert np.all(speed > 0)  # the stack shows that they move
+    finally:
+        env.close()
+    with pytest.raises(ValueError, match="state_frames stacks state vectors for runs without a camera"):
+        parse_args(["--state-frames", "2", "--camera-frames", "1"])
+    with pytest.raises(ValueError, match="state_frames must be at least 1"):
+        parse_args(["--state-frames", "0"])
