@@ -41,7 +41,8 @@ ROBOT_RADIUS = math.hypot(FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH)
 class ObstacleForecast:
     """Where each moving obstacle of a world can be, step by step, as boxes (lo, hi corners)."""
 
-    def __init__(self, world):
+    def __init__(self, world, remember: bool = True):
+        self.remember = remember  # False: forget the last positions, as a learner fed one state does
         self.specs = []  # (motion spec, half size) per moving obstacle, in state-vector order
         for group in world.obstacles:
             if group.moving:
@@ -59,7 +60,7 @@ class ObstacleForecast:
             prev = None if self.previous is None else self.previous[i]
             for k, (lo, hi) in enumerate(_reach(spec, xy[i], prev, horizon)):
                 centres[k, i, 0], centres[k, i, 1] = lo - half, hi + half
-        self.previous = xy.copy()
+        self.previous = xy.copy() if self.remember else None
         swept = centres.copy()  # step k >= 1 covers the boxes of steps k - 1 and k
         swept[1:, :, 0] = np.minimum(centres[:-1, :, 0], centres[1:, :, 0])
         swept[1:, :, 1] = np.maximum(centres[:-1, :, 1], centres[1:, :, 1])
@@ -147,9 +148,12 @@ class StatePlanner:
     cut through 5.5c's obstacle areas in 4 of 30 episodes instead of finding the lane around them)"""
     cell: float = 0.05
     """grid (m) on which two search nodes at the same step count as one"""
+    remember: bool = True
+    """False: forecast from the current state alone (every speed and way a box may have), as an
+    agent fed one state vector must; True: also from the previous step's positions"""
 
     def __post_init__(self):
-        self.forecast = ObstacleForecast(self.world)
+        self.forecast = ObstacleForecast(self.world, remember=self.remember)
         arena = self.world.arena
         self._x, self._y = arena.x_range, arena.y_range
         static = [(np.asarray(g.motion.at, float), np.asarray(g.half_size, float))
@@ -264,6 +268,9 @@ class Args:
     """seed of the first episode"""
     max_expansions: int = StatePlanner.max_expansions
     """search budget per step (A* nodes)"""
+    memoryless: bool = False
+    """forecast the boxes from the current state alone, without the previous step's positions
+    (the information an agent fed one state vector has)"""
     out: Optional[str] = None
     """also write each task's success, collision and timeout rates into this JSON file (merged
     with what it holds, one entry per task), e.g. docs/results/ceilings.json for agents.report"""
@@ -274,7 +281,8 @@ def main(args: Args) -> None:
     from .cli import run_over_tasks
 
     run_over_tasks(args.task, TASK_IDS, "task id", args.episodes, args.first_seed,
-                   lambda task, seeds: run_planner(task, seeds, progress=True, max_expansions=args.max_expansions),
+                   lambda task, seeds: run_planner(task, seeds, progress=True, max_expansions=args.max_expansions,
+                                                       remember=not args.memoryless),
                    out=args.out)
 
 if __name__ == "__main__":

@@ -13,11 +13,11 @@ from dynnav_tasks.motion import Static
 HALF = (0.25, 0.25)
 
 
-def _forecast_holds(motion, observed_steps, horizon=20, seed=3):
+def _forecast_holds(motion, observed_steps, horizon=20, seed=3, remember=True):
     """Run the motion's mover; after ``observed_steps`` observations, every future position
     lies in the forecast's box for its step (the box minus the obstacle's half size)."""
     world = World(targets=(Static((0.0, 0.0)),), obstacles=(Obstacles(HALF, motion),))
-    forecast = ObstacleForecast(world)
+    forecast = ObstacleForecast(world, remember=remember)
     rng = np.random.default_rng(seed)
     mover = motion.mover()
     xy = mover.reset(rng)
@@ -46,6 +46,8 @@ def test_a_route_obstacle_is_forecast_after_its_speed_is_seen():
     assert _forecast_holds(route, 0).max() > 1.0  # before: every speed of the range
     sizes = _forecast_holds(route, 1)
     assert sizes.max() <= 0.5 + 1e-9  # after: one step of the true speed
+    # a memoryless forecast (what one state vector tells) keeps every speed of the range
+    assert _forecast_holds(route, 1, remember=False).max() > 1.0
 
 
 def test_a_wandering_obstacle_stays_in_its_growing_box():
