@@ -51,21 +51,27 @@ class LaserRing:
         self.start = np.array(
             [footprint_exit_distance(a, half_length, half_width) + _START_MARGIN for a in self.angles]
         )
-        self._out = np.empty(num_rays, dtype=np.float32)
+        n = num_rays
+        # per-ray constants as Python floats, and buffers whose rows are passed to PhysX
+        self._starts = self.start.tolist()
+        self._reaches = [self.max_range - s for s in self._starts]
+        self._dirs = np.zeros((n, 3), dtype=np.float32)
+        self._origins = np.full((n, 3), self.height, dtype=np.float32)
+        self._offsets = np.empty((n, 2))
+        self._rays = list(zip(list(self._origins), list(self._dirs), self._reaches, self._starts))
 
     def read(self, x: float, y: float, yaw: float) -> np.ndarray:
         """Readings for a robot at (x, y) facing ``yaw``; a float32 array of ``num_rays``."""
         world = self.angles + yaw
-        dirs = np.zeros((len(world), 3), dtype=np.float32)
+        dirs, origins, offsets = self._dirs, self._origins, self._offsets
         dirs[:, 0] = np.cos(world)
         dirs[:, 1] = np.sin(world)
-        origins = np.empty_like(dirs)
-        origins[:, 0] = x + self.start * dirs[:, 0]
-        origins[:, 1] = y + self.start * dirs[:, 1]
-        origins[:, 2] = self.height
-        out, raycast, rng = self._out, self.px.raycast, self.max_range
-        for k in range(len(world)):
-            reach = rng - self.start[k]
-            hit = raycast(origins[k], dirs[k], reach)
-            out[k] = self.start[k] + hit.distance if hit is not None else rng
-        return out.copy()
+        np.multiply(self.start[:, None], dirs[:, :2], out=offsets)  # float64, as the origins' sums
+        origins[:, 0] = offsets[:, 0] + x
+        origins[:, 1] = offsets[:, 1] + y
+        raycast, rng = self.px.raycast, self.max_range
+        out = []
+        for origin, direction, reach, start in self._rays:
+            hit = raycast(origin, direction, reach)
+            out.append(start + hit.distance if hit is not None else rng)
+        return np.array(out, dtype=np.float32)
