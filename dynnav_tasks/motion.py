@@ -13,6 +13,7 @@ thesis's "m/dt").
 from __future__ import annotations
 
 import math
+from bisect import bisect_right
 from dataclasses import dataclass
 from functools import cached_property
 from typing import Sequence
@@ -88,13 +89,15 @@ class _BackAndForthMover(Mover):
     def __init__(self, spec: BackAndForth):
         self.center = np.array(spec.center, dtype=np.float64)
         self.direction = _unit(spec.direction)
+        self._c, self._d = self.center.tolist(), self.direction.tolist()
         self.amplitude = float(spec.amplitude)
         self.speed = float(spec.speed)
         self.offset = 0.0
         self.sign = 1.0
 
     def _position(self):
-        return (self.center + self.offset * self.direction)[None]
+        (cx, cy), (dx, dy), t = self._c, self._d, self.offset
+        return np.array([[cx + t * dx, cy + t * dy]])
 
     def reset(self, rng):
         self.offset = rng.uniform(-self.amplitude, self.amplitude)
@@ -130,16 +133,32 @@ class Route:
             raise ValueError(f"a Route's consecutive waypoints must differ: {self.waypoints}")
         return pts, seg, np.cumsum(seg)
 
+    @cached_property
+    def _segments(self) -> tuple[list, list, float]:
+        """The geometry as Python floats: cumulative lengths, per segment (start arc length,
+        length, x, y, dx, dy), and the loop length."""
+        pts, seg, cum = self._geometry
+        p, c = pts.tolist(), cum.tolist()
+        rows = [
+            (float(cum[i] - seg[i]), float(seg[i]), *p[i], p[i + 1][0] - p[i][0], p[i + 1][1] - p[i][1])
+            for i in range(len(seg))
+        ]
+        return c, rows, c[-1]
+
     def length(self) -> float:
         return float(self._geometry[2][-1])
 
+    def point_at(self, s: float) -> tuple[float, float]:
+        """``position_at`` as a tuple of Python floats."""
+        cum, rows, length = self._segments
+        s = s % length
+        start, seg, x, y, dx, dy = rows[min(bisect_right(cum, s), len(rows) - 1)]
+        t = (s - start) / seg
+        return x + dx * t, y + dy * t
+
     def position_at(self, s: float) -> np.ndarray:
         """Point at arc length ``s`` (taken modulo the loop length) from the first waypoint."""
-        pts, seg, cum = self._geometry
-        s = s % float(cum[-1])
-        i = min(int(np.searchsorted(cum, s, side="right")), len(seg) - 1)
-        start = float(cum[i] - seg[i])
-        return pts[i] + (pts[i + 1] - pts[i]) * ((s - start) / seg[i])
+        return np.array(self.point_at(s))
 
     def signed_area(self) -> float:
         """Shoelace area of the loop: negative when it runs clockwise seen from above (z up)."""
@@ -165,7 +184,8 @@ class _RouteMover(Mover):
         self.s = 0.0
 
     def _positions(self):
-        return np.stack([self.spec.position_at(self.s + i * self.spacing) for i in range(self.count)])
+        point_at, s, spacing = self.spec.point_at, self.s, self.spacing
+        return np.array([point_at(s + i * spacing) for i in range(self.count)])
 
     def reset(self, rng):
         lo, hi = self.spec.speed_range
@@ -210,31 +230,38 @@ class _RandomInRectMover(Mover):
     def __init__(self, spec: RandomInRect):
         self.spec = spec
         self.low, self.high = spec.extent()
-        self.p = np.zeros(2)
+        self._bounds = list(zip(self.low.tolist(), self.high.tolist()))
+        self._turn = (-float(spec.max_turn), float(spec.max_turn))
+        self._speed = tuple(float(v) for v in spec.speed_range)
+        self._xy = [0.0, 0.0]
         self.heading = 0.0
+
+    @property
+    def p(self) -> np.ndarray:
+        """The current position."""
+        return np.array(self._xy)
 
     def reset(self, rng):
         if self.spec.start is None:
-            self.p = rng.uniform(self.low, self.high)
+            # one draw per coordinate, x first: rng.uniform(low, high) with the arrays draws the same
+            self._xy = [rng.uniform(lo, hi) for lo, hi in self._bounds]
         else:
-            self.p = np.array(self.spec.start, dtype=np.float64)
+            self._xy = [float(v) for v in self.spec.start]
         self.heading = rng.uniform(-math.pi, math.pi)
-        return self.p[None].copy()
+        return np.array([self._xy])
 
     def advance(self, rng):
-        s = self.spec
-        self.heading += rng.uniform(-s.max_turn, s.max_turn)
-        step = rng.uniform(*s.speed_range)
-        d = np.array([math.cos(self.heading), math.sin(self.heading)])
-        p = self.p + step * d
-        for k in range(2):  # bounce: mirror the position and the heading's component
-            lo, hi = self.low[k], self.high[k]
+        heading = self.heading + rng.uniform(*self._turn)
+        step = rng.uniform(*self._speed)
+        d = [math.cos(heading), math.sin(heading)]
+        p = [self._xy[0] + step * d[0], self._xy[1] + step * d[1]]
+        for k, (lo, hi) in enumerate(self._bounds):  # bounce: mirror the position and the heading's component
             while p[k] < lo or p[k] > hi:
                 p[k] = 2 * lo - p[k] if p[k] < lo else 2 * hi - p[k]
                 d[k] = -d[k]
         self.heading = math.atan2(d[1], d[0])
-        self.p = p
-        return p[None].copy()
+        self._xy = p
+        return np.array([p])
 
 
 def _unit(v: Sequence[float]) -> np.ndarray:
