@@ -128,6 +128,7 @@ class DiscreteDriveController(BaseController):
         self._dof_index = [int(i) for i in self.active_joint_indices]
         self._dof = self._px_art.dof
         self._qvel = np.zeros(self._dof, dtype=np.float32)
+        self._yaw_index = self._dof_index[2]
         self._commanded = None
         self.configure(self.config)
 
@@ -136,15 +137,13 @@ class DiscreteDriveController(BaseController):
         self.config = config
         rate = float(self._control_freq)
         c = config
-        # (linear velocity m/s, angular velocity rad/s) per action
-        self._twists = np.array(
-            [
-                [c.forward_step * rate, 0.0],
-                [c.turn_forward_step * rate, c.turn_step * rate],
-                [c.turn_forward_step * rate, -c.turn_step * rate],
-            ]
+        # (linear velocity m/s, angular velocity rad/s) per action, as Python floats
+        self._twists = (
+            (float(c.forward_step * rate), 0.0),
+            (float(c.turn_forward_step * rate), float(c.turn_step * rate)),
+            (float(c.turn_forward_step * rate), float(-c.turn_step * rate)),
         )
-        self._twist = np.zeros(2)
+        self._twist = (0.0, 0.0)
 
     def set_drive_property(self):
         for joint in self._px_joints:
@@ -152,7 +151,7 @@ class DiscreteDriveController(BaseController):
             joint.set_friction(0.0)
 
     def reset(self):
-        self._twist = np.zeros(2)
+        self._twist = (0.0, 0.0)
         self._commanded = None
 
     def set_action(self, action) -> None:
@@ -167,17 +166,16 @@ class DiscreteDriveController(BaseController):
         """
         v, w = self._twist
         if v != 0.0:
-            yaw = float(self._px_art.get_qpos()[self._dof_index[2]])
+            yaw = float(self._px_art.get_qpos()[self._yaw_index])
             target = (v * math.cos(yaw), v * math.sin(yaw), w)
         else:
             target = (0.0, 0.0, w)
-        if target != self._commanded:
-            for joint, t in zip(self._px_joints, target):
-                joint.set_drive_velocity_target(t)
-            self._commanded = target
         qvel = self._qvel
-        for i, t in zip(self._dof_index, target):
-            qvel[i] = t
+        if target != self._commanded:
+            for joint, i, t in zip(self._px_joints, self._dof_index, target):
+                joint.set_drive_velocity_target(t)
+                qvel[i] = t
+            self._commanded = target
         self._px_art.set_qvel(qvel)
 
 
