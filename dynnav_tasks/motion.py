@@ -231,8 +231,8 @@ class _RandomInRectMover(Mover):
         self.spec = spec
         self.low, self.high = spec.extent()
         self._bounds = list(zip(self.low.tolist(), self.high.tolist()))
-        self._turn = (-float(spec.max_turn), float(spec.max_turn))
-        self._speed = tuple(float(v) for v in spec.speed_range)
+        self._turn = _UniformRange(-float(spec.max_turn), float(spec.max_turn))
+        self._speed = _UniformRange(*(float(v) for v in spec.speed_range))
         self._xy = [0.0, 0.0]
         self.heading = 0.0
 
@@ -251,8 +251,8 @@ class _RandomInRectMover(Mover):
         return np.array([self._xy])
 
     def advance(self, rng):
-        heading = self.heading + rng.uniform(*self._turn)
-        step = rng.uniform(*self._speed)
+        heading = self.heading + self._turn.draw(rng)
+        step = self._speed.draw(rng)
         d = [math.cos(heading), math.sin(heading)]
         p = [self._xy[0] + step * d[0], self._xy[1] + step * d[1]]
         for k, (lo, hi) in enumerate(self._bounds):  # bounce: mirror the position and the heading's component
@@ -262,6 +262,23 @@ class _RandomInRectMover(Mover):
         self.heading = math.atan2(d[1], d[0])
         self._xy = p
         return np.array([p])
+
+
+class _UniformRange:
+    """``draw(rng)`` is ``rng.uniform(low, high)``: the same value and the same draw.
+
+    numpy's ``Generator.uniform`` computes ``low + (high - low) * u`` from one standard
+    uniform draw ``u``, which ``rng.random()`` returns for a third of the call's cost
+    (``tests/test_step_speedups.py`` checks the two agree).
+    """
+
+    __slots__ = ("low", "span")
+
+    def __init__(self, low: float, high: float):
+        self.low, self.span = low, high - low
+
+    def draw(self, rng: np.random.Generator) -> float:
+        return self.low + self.span * rng.random()
 
 
 def _unit(v: Sequence[float]) -> np.ndarray:

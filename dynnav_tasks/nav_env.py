@@ -22,8 +22,8 @@ State observation (``obs_mode="state"``), float32, in this order (see ``state_la
 Step
     One control step is 0.2 s (``control_freq`` 5 Hz) simulated as 4 PhysX steps of 50 ms.
     Moving obstacles are kinematic bodies moved to interpolated targets at every PhysX step.
-    After it the task takes one ``StepSnapshot`` (``snapshot.py``); ``evaluate()``, the
-    reward and the observation are read from it. ``step_numpy`` returns the plain gymnasium
+    After it the task takes one ``StepSnapshot`` (``snapshot.py``) from what its ``Sensing``
+    (``sensing.py``) reads; ``evaluate()``, the reward and the observation are read from it. ``step_numpy`` returns the plain gymnasium
     values (numpy, no torch at all); ``step`` (ManiSkill's batched torch API) wraps them.
 """
 
@@ -43,16 +43,15 @@ from mani_skill.utils.structs.types import SceneConfig, SimConfig
 from . import rewards as R
 from .camera import FRONT_CAMERA, CameraSpec
 from .errors import check_choice
-from .lasers import LaserRing
-from .vulkan import explain, is_vulkan_error
-from .robot import FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH, LASER_HEIGHT, DiffBot, DriveConfig
+from .robot import DiffBot, DriveConfig
 from .scene import HIDDEN_Z, add_lighting, build_world
-from .snapshot import StepSnapshot, footprint_overlaps, take_snapshot
+from .sensing import Sensing
+from .snapshot import StepSnapshot
 from .top_down import TopDownView
+from .vulkan import explain, is_vulkan_error
 from .world import World
 
 OBS_MODES = ("state", "rgb", "rgb+state")
-FOOTPRINT_HALF = (FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH)
 
 
 class NavEnv(TopDownView, BaseEnv):
@@ -171,15 +170,24 @@ class NavEnv(TopDownView, BaseEnv):
         built = build_world(self.scene, self.world)
         self._movers = built.movers
         self._moving_bodies, self._moving_z = built.moving_bodies, built.moving_z
-        self._static_obstacle_xy, self._obstacle_half = built.static_obstacle_xy, built.obstacle_half
+        n_sub, n_moving = self._sim_steps_per_control, len(self._moving_bodies)
+        self._sub_step_fractions = (np.arange(1, n_sub + 1) / n_sub).reshape(-1, 1, 1)  # k / n_sub
+        kinematic = np.empty((n_sub, n_moving, 3), dtype=np.float32)
+        kinematic[:, :, 2] = self._moving_z
+        self._kinematic_xy = kinematic[:, :, :2]
+        self._kinematic_rows = [list(rows) for rows in kinematic]
+        self._kinematic_pose = sapien.Pose()
         self._targets = built.targets
-        fixed = list(self.world.arena.walls().values()) + list(zip(self._static_obstacle_xy, self._obstacle_half))
-        self._fixed_boxes = [(float(c[0]), float(c[1]), float(h[0]), float(h[1])) for c, h in fixed]
         self._px = self.scene.px
-        self._lasers = LaserRing(self._px, FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH, LASER_HEIGHT)
-        self._robot_bodies = {
-            link._objs[0] for link in self.agent.robot.links if link._objs[0].collision_shapes
-        }
+        self._sensing = Sensing(
+            self._px,
+            self.agent.robot,
+            walls=self.world.arena.walls().values(),
+            static_xy=built.static_obstacle_xy,
+            obstacle_half=built.obstacle_half,
+            collision_margin=self.collision_margin,
+        )
+        self._lasers = self._sensing.lasers
 
     # ------------------------------------------------------------------ episodes
     def _initialize_episode(self, env_idx: torch.Tensor, options: dict):
@@ -245,17 +253,17 @@ class NavEnv(TopDownView, BaseEnv):
 
     def _simulate(self):
         """One control step: the robot's drive and every mover, over the PhysX sub-steps."""
-        controller = self.agent.controller
+        before_sub_step, px_step = self.agent.controller.before_simulation_step, self._px.step
         old_xy, new_xy = self._moving_xy, self._advance_movers()
-        n_sub = self._sim_steps_per_control
-        bodies = self._moving_bodies
-        for k in range(1, n_sub + 1):
-            controller.before_simulation_step()
-            if bodies:
-                xy = old_xy + (new_xy - old_xy) * (k / n_sub)  # kinematic targets, interpolated
-                for body, z, p in zip(bodies, self._moving_z, xy.tolist()):
-                    body.set_kinematic_target(sapien.Pose([p[0], p[1], z]))
-            self._px.step()
+        bodies, pose = self._moving_bodies, self._kinematic_pose  # PhysX copies a target's pose
+        if bodies:  # kinematic targets, interpolated, in float32 (a Pose's precision)
+            np.add(old_xy, (new_xy - old_xy) * self._sub_step_fractions, out=self._kinematic_xy, casting="same_kind")
+        for rows in self._kinematic_rows:  # one list of (x, y, z) rows per sub-step
+            before_sub_step()
+            for body, p in zip(bodies, rows):
+                pose.p = p
+                body.set_kinematic_target(pose)
+            px_step()
         self._moving_xy = new_xy
         self._advance_targets()
 
@@ -268,44 +276,15 @@ class NavEnv(TopDownView, BaseEnv):
     def _advance_targets(self):
         mover, entity = self._targets[self._target_index]
         xy = mover.advance(self.np_random)[0]
-        if xy[0] != self._target_xy[0] or xy[1] != self._target_xy[1]:
-            entity.set_pose(sapien.Pose([xy[0], xy[1], 0.0]))
+        x, y = xy.tolist()
+        if x != self._target_xy[0] or y != self._target_xy[1]:
+            entity.set_pose(sapien.Pose([x, y, 0.0]))
         self._target_xy = xy
 
     # ------------------------------------------------------------------ sensing
     def _take_snapshot(self, step: int, contact: Optional[bool], previous: Optional[StepSnapshot]) -> StepSnapshot:
         """``contact=None``: after a step, from PhysX's contacts and the footprint's overlap."""
-        x, y, yaw = self.agent.pose2d()
-        if contact is None:
-            contact = self._in_collision() or footprint_overlaps((x, y, yaw), FOOTPRINT_HALF, self._solid_boxes())
-        return take_snapshot(
-            step=step,
-            pose=(x, y, yaw),
-            lasers=self._lasers.read(x, y, yaw),
-            target_xy=self._target_xy,
-            static_xy=self._static_obstacle_xy,
-            moving_xy=self._moving_xy,
-            obstacle_half=self._obstacle_half,
-            contact=contact,
-            previous=previous,
-        )
-
-    def _solid_boxes(self) -> list:
-        """(cx, cy, hx, hy) of everything the robot can hit: walls, static boxes, moving boxes."""
-        moving_half = self._obstacle_half[len(self._static_obstacle_xy):]
-        return self._fixed_boxes + [(*p, *h) for p, h in zip(self._moving_xy.tolist(), moving_half.tolist())]
-
-    def _in_collision(self) -> bool:
-        robot = self._robot_bodies
-        margin = self.collision_margin
-        for contact in self._px.get_contacts():
-            a, b = contact.bodies
-            if (a in robot) != (b in robot):  # robot against anything else
-                for p in contact.points:
-                    # touching, or the solver had to push them apart during the step
-                    if p.separation <= margin or p.impulse.any():
-                        return True
-        return False
+        return self._sensing.take(step, self._target_xy, self._moving_xy, contact, previous)
 
     @property
     def snapshot(self) -> StepSnapshot:
@@ -426,7 +405,7 @@ class NavEnv(TopDownView, BaseEnv):
 
     def close(self):
         """Release the scene at once, so nothing of SAPIEN's lingers for a forked child."""
-        for name in ("_px", "_lasers", "_movers", "_moving_bodies", "_targets", "_robot_bodies", "segmentation_id_map"):
+        for name in ("_px", "_lasers", "_sensing", "_movers", "_moving_bodies", "_targets", "segmentation_id_map"):
             self.__dict__.pop(name, None)
         super().close()
 

@@ -1,7 +1,8 @@
 """``StepSnapshot``: everything a dynnav task knows about the world after one step.
 
 A task takes exactly one snapshot after every ``reset()`` and every ``step()`` (and after
-``place_robot``), with ``take_snapshot``; nothing else computes these quantities. Success and
+``place_robot``), with ``snapshot_of`` (``sensing.py`` gathers its inputs); ``take_snapshot``
+does the same from plain values. Nothing else computes these quantities. Success and
 failure (``NavEnv.evaluate``), the reward (``rewards.compute_reward(mode, previous, current,
 ...)``), the state vector, recordings and pictures all read the snapshot, which is public
 as ``env.unwrapped.snapshot`` and immutable: its arrays are read-only.
@@ -44,6 +45,19 @@ def box_distance(point: np.ndarray, centers: np.ndarray, half_sizes: np.ndarray)
     """Distances from a 2D point to axis-aligned rectangles (0 inside)."""
     d = np.maximum(np.abs(point[None, :] - centers) - half_sizes, 0.0)
     return np.sqrt((d * d).sum(axis=1))
+
+
+def nearest_box_distance(x: float, y: float, boxes) -> float:
+    """The smallest of ``box_distance`` from (x, y) to the ``boxes`` (cx, cy, hx, hy), the same
+    value to the last bit, in plain Python; ``inf`` when there are none."""
+    nearest = math.inf
+    for cx, cy, hx, hy in boxes:
+        dx, dy = abs(x - cx) - hx, abs(y - cy) - hy
+        dx, dy = (0.0 if dx <= 0.0 else dx), (0.0 if dy <= 0.0 else dy)
+        d = math.sqrt(dx * dx + dy * dy)
+        if d < nearest:
+            nearest = d
+    return nearest
 
 
 def footprint_overlaps(pose, half, boxes) -> bool:
@@ -105,8 +119,8 @@ class StepSnapshot:
     def state_vector(self) -> np.ndarray:
         """lasers | robot x, y | target x, y | moving obstacles' x, y (float32)."""
         return np.concatenate(
-            [self.lasers, self.pose[:2], self.target_xy, self.moving_obstacle_xy.reshape(-1)]
-        ).astype(np.float32)
+            [self.lasers, self.pose[:2], self.target_xy, self.moving_obstacle_xy.reshape(-1)], dtype=np.float32
+        )
 
 
 def take_snapshot(
@@ -121,16 +135,51 @@ def take_snapshot(
     contact: bool,
     previous: StepSnapshot | None = None,
 ) -> StepSnapshot:
-    """The one function that makes a ``StepSnapshot``: derives d1, d2 and the bearing.
+    """A ``StepSnapshot`` from plain values (sequences or arrays, copied): ``snapshot_of``
+    after freezing copies of the arrays.
 
     ``previous``: the snapshot of the step before, whose path length this one extends by
     the distance between the two poses (``None`` after a reset: the path starts at 0).
     """
-    x, y, yaw = (float(v) for v in pose)
+    moving = np.reshape(moving_xy, (-1, 2))
+    obstacles = _frozen(np.concatenate([np.reshape(static_xy, (-1, 2)), moving]), np.float64, (-1, 2))
+    half = _frozen(obstacle_half, np.float64, (-1, 2))
+    if len(half) != len(obstacles):
+        raise ValueError(f"{len(obstacles)} obstacle centres but {len(half)} half sizes")
     tx, ty = (float(v) for v in target_xy)
-    obstacles = np.concatenate([np.reshape(static_xy, (-1, 2)), np.reshape(moving_xy, (-1, 2))])
-    half = np.reshape(obstacle_half, (-1, 2))
-    d2 = float(box_distance(np.array([x, y]), obstacles, half).min()) if len(obstacles) else math.inf
+    return snapshot_of(
+        step=step,
+        pose=pose,
+        lasers=_frozen(lasers, np.float32),
+        target_xy=_frozen((tx, ty), np.float64),
+        obstacle_xy=obstacles,
+        obstacle_half=half,
+        moving_count=len(moving),
+        boxes=[(*c, *h) for c, h in zip(obstacles.tolist(), half.tolist())],
+        contact=contact,
+        previous=previous,
+    )
+
+
+def snapshot_of(
+    *,
+    step: int,
+    pose,
+    lasers: np.ndarray,
+    target_xy: np.ndarray,
+    obstacle_xy: np.ndarray,
+    obstacle_half: np.ndarray,
+    moving_count: int,
+    boxes,
+    contact: bool,
+    previous: StepSnapshot | None,
+) -> StepSnapshot:
+    """The one function that makes a ``StepSnapshot``: derives d1, d2, the bearing and the
+    path length. The arrays are kept as given: read-only arrays nothing else writes to
+    (``take_snapshot`` makes them from plain values); ``boxes`` lists ``obstacle_xy`` and
+    ``obstacle_half`` as (cx, cy, hx, hy) rows of Python floats."""
+    x, y, yaw = (float(v) for v in pose)
+    tx, ty = target_xy.tolist()
     path = 0.0
     if previous is not None:
         px, py, _ = previous.pose
@@ -138,13 +187,13 @@ def take_snapshot(
     return StepSnapshot(
         step=int(step),
         pose=(x, y, yaw),
-        lasers=_frozen(lasers, np.float32),
-        target_xy=_frozen((tx, ty), np.float64),
-        obstacle_xy=_frozen(obstacles, np.float64, (-1, 2)),
-        obstacle_half=_frozen(half, np.float64, (-1, 2)),
-        moving_count=len(np.reshape(moving_xy, (-1, 2))),
+        lasers=lasers,
+        target_xy=target_xy,
+        obstacle_xy=obstacle_xy,
+        obstacle_half=obstacle_half,
+        moving_count=moving_count,
         d1=math.hypot(tx - x, ty - y),
-        d2=d2,
+        d2=nearest_box_distance(x, y, boxes),
         bearing=float(wrap_angle(math.atan2(ty - y, tx - x) - yaw)),
         contact=bool(contact),
         path_length=path,
