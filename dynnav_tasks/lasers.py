@@ -58,17 +58,19 @@ class LaserRing:
         self._dirs = np.zeros((n, 3), dtype=np.float32)
         self._origins = np.full((n, 3), self.height, dtype=np.float32)
         self._offsets = np.empty((n, 2))
+        self._start_xy = np.repeat(self.start[:, None], 2, axis=1)
+        self._xy = np.empty(2)
         self._rays = list(zip(list(self._origins), list(self._dirs), self._reaches, self._starts))
 
     def read(self, x: float, y: float, yaw: float) -> np.ndarray:
         """Readings for a robot at (x, y) facing ``yaw``; a float32 array of ``num_rays``."""
         world = self.angles + yaw
-        dirs, origins, offsets = self._dirs, self._origins, self._offsets
+        dirs, offsets, xy = self._dirs, self._offsets, self._xy
         dirs[:, 0] = np.cos(world)
         dirs[:, 1] = np.sin(world)
-        np.multiply(self.start[:, None], dirs[:, :2], out=offsets)  # float64, as the origins' sums
-        origins[:, 0] = offsets[:, 0] + x
-        origins[:, 1] = offsets[:, 1] + y
+        np.multiply(self._start_xy, dirs[:, :2], out=offsets)  # start * direction in float64,
+        xy[0], xy[1] = x, y
+        np.add(offsets, xy, out=self._origins[:, :2], casting="same_kind")  # + (x, y), then float32
         raycast, rng = self.px.raycast, self.max_range
         out = []
         for origin, direction, reach, start in self._rays:

@@ -185,6 +185,8 @@ class _RouteMover(Mover):
 
     def _positions(self):
         point_at, s, spacing = self.spec.point_at, self.s, self.spacing
+        if self.count == 1:
+            return np.array([point_at(s)])
         return np.array([point_at(s + i * spacing) for i in range(self.count)])
 
     def reset(self, rng):
@@ -251,17 +253,20 @@ class _RandomInRectMover(Mover):
         return np.array([self._xy])
 
     def advance(self, rng):
-        heading = self.heading + self._turn.draw(rng)
-        step = self._speed.draw(rng)
-        d = [math.cos(heading), math.sin(heading)]
-        p = [self._xy[0] + step * d[0], self._xy[1] + step * d[1]]
-        for k, (lo, hi) in enumerate(self._bounds):  # bounce: mirror the position and the heading's component
-            while p[k] < lo or p[k] > hi:
-                p[k] = 2 * lo - p[k] if p[k] < lo else 2 * hi - p[k]
-                d[k] = -d[k]
-        self.heading = math.atan2(d[1], d[0])
-        self._xy = p
-        return np.array([p])
+        turn, speed = self._turn, self._speed
+        heading = self.heading + (turn.low + turn.span * rng.random())  # turn.draw(rng), inlined
+        step = speed.low + speed.span * rng.random()  # speed.draw(rng)
+        dx, dy = math.cos(heading), math.sin(heading)
+        x, y = self._xy
+        x, y = x + step * dx, y + step * dy
+        (x_lo, x_hi), (y_lo, y_hi) = self._bounds
+        while x < x_lo or x > x_hi:  # bounce: mirror the position and the heading's component
+            x, dx = (2 * x_lo - x if x < x_lo else 2 * x_hi - x), -dx
+        while y < y_lo or y > y_hi:
+            y, dy = (2 * y_lo - y if y < y_lo else 2 * y_hi - y), -dy
+        self.heading = math.atan2(dy, dx)
+        self._xy = [x, y]
+        return np.array([[x, y]])
 
 
 class _UniformRange:

@@ -268,17 +268,22 @@ class NavEnv(TopDownView, BaseEnv):
         self._advance_targets()
 
     def _advance_movers(self) -> np.ndarray:
-        rng = self.np_random
-        if not self._movers:
+        movers = self._movers
+        if not movers:
             return self._moving_xy
-        return np.concatenate([mover.advance(rng) for mover, _ in self._movers])
+        rng = self.np_random
+        if len(movers) == 1:
+            return movers[0][0].advance(rng)
+        return np.concatenate([mover.advance(rng) for mover, _ in movers])
 
     def _advance_targets(self):
         mover, entity = self._targets[self._target_index]
         xy = mover.advance(self.np_random)[0]
         x, y = xy.tolist()
         if x != self._target_xy[0] or y != self._target_xy[1]:
-            entity.set_pose(sapien.Pose([x, y, 0.0]))
+            pose = self._kinematic_pose  # the entity copies it
+            pose.p = [x, y, 0.0]
+            entity.set_pose(pose)
         self._target_xy = xy
 
     # ------------------------------------------------------------------ sensing
@@ -349,8 +354,9 @@ class NavEnv(TopDownView, BaseEnv):
         return torch.tensor([steps], dtype=torch.int32)
 
     def _terminal(self) -> bool:
-        result = self.outcome()
-        return result["success"] or result["collision"]
+        if self._outcome_of is not self.snapshot:
+            self.outcome()  # caches it
+        return self._outcome["success"] or self._outcome["collision"]
 
     def get_obs(self, info: Optional[dict] = None, unflattened: bool = False):
         """Batched torch observation of the current step (see the module docstring)."""

@@ -166,17 +166,17 @@ class DiscreteDriveController(BaseController):
         """
         v, w = self._twist
         if v != 0.0:
-            yaw = float(self._px_art.get_qpos()[self._yaw_index])
+            yaw = self._px_art.get_qpos().item(self._yaw_index)
             target = (v * math.cos(yaw), v * math.sin(yaw), w)
         else:
             target = (0.0, 0.0, w)
-        qvel = self._qvel
         if target != self._commanded:
+            qvel = self._qvel
             for joint, i, t in zip(self._px_joints, self._dof_index, target):
                 joint.set_drive_velocity_target(t)
                 qvel[i] = t
             self._commanded = target
-        self._px_art.set_qvel(qvel)
+        self._px_art.set_qvel(self._qvel)
 
 
 DriveConfig.controller_cls = DiscreteDriveController

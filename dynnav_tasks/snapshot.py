@@ -147,9 +147,10 @@ def take_snapshot(
     if len(half) != len(obstacles):
         raise ValueError(f"{len(obstacles)} obstacle centres but {len(half)} half sizes")
     tx, ty = (float(v) for v in target_xy)
+    x, y, yaw = (float(v) for v in pose)
     return snapshot_of(
-        step=step,
-        pose=pose,
+        step=int(step),
+        pose=(x, y, yaw),
         lasers=_frozen(lasers, np.float32),
         target_xy=_frozen((tx, ty), np.float64),
         obstacle_xy=obstacles,
@@ -175,18 +176,20 @@ def snapshot_of(
     previous: StepSnapshot | None,
 ) -> StepSnapshot:
     """The one function that makes a ``StepSnapshot``: derives d1, d2, the bearing and the
-    path length. The arrays are kept as given: read-only arrays nothing else writes to
-    (``take_snapshot`` makes them from plain values); ``boxes`` lists ``obstacle_xy`` and
-    ``obstacle_half`` as (cx, cy, hx, hy) rows of Python floats."""
-    x, y, yaw = (float(v) for v in pose)
+    path length. ``step`` is an int and ``pose`` a tuple of Python floats; the arrays are
+    kept as given: read-only arrays nothing else writes to (``take_snapshot`` makes them
+    from plain values); ``boxes`` lists ``obstacle_xy`` and ``obstacle_half`` as
+    (cx, cy, hx, hy) rows of Python floats."""
+    x, y, yaw = pose
     tx, ty = target_xy.tolist()
     path = 0.0
     if previous is not None:
         px, py, _ = previous.pose
         path = previous.path_length + math.hypot(x - px, y - py)
-    return StepSnapshot(
-        step=int(step),
-        pose=(x, y, yaw),
+    snapshot = object.__new__(StepSnapshot)  # the frozen dataclass's fields, set without its slower __init__
+    snapshot.__dict__.update(
+        step=step,
+        pose=pose,
         lasers=lasers,
         target_xy=target_xy,
         obstacle_xy=obstacle_xy,
@@ -194,7 +197,8 @@ def snapshot_of(
         moving_count=moving_count,
         d1=math.hypot(tx - x, ty - y),
         d2=nearest_box_distance(x, y, boxes),
-        bearing=float(wrap_angle(math.atan2(ty - y, tx - x) - yaw)),
+        bearing=wrap_angle(math.atan2(ty - y, tx - x) - yaw),
         contact=bool(contact),
         path_length=path,
     )
+    return snapshot
