@@ -16,7 +16,8 @@ Episode rules
     * timeout: ``max_episode_steps`` (200) steps without either; the episode is truncated,
       not terminated.
 
-State observation (``obs_mode="state"``), float32, in this order (see ``state_layout()``):
+State observation (``obs_mode="state"``), float32, in this order (see ``state_layout()``
+and ``observations.py`` for the camera's):
     16 laser readings (m) | robot x, y | target x, y | x, y of each moving obstacle
 
 Step
@@ -30,7 +31,6 @@ Step
 from __future__ import annotations
 
 from dataclasses import replace
-from functools import cached_property
 from typing import Any, ClassVar, Optional
 
 import gymnasium as gym
@@ -41,8 +41,9 @@ from mani_skill.envs.sapien_env import BaseEnv
 from mani_skill.utils.structs.types import SceneConfig, SimConfig
 
 from . import rewards as R
-from .camera import FRONT_CAMERA, CameraSpec
+from .camera import CameraSpec
 from .errors import check_choice
+from .observations import OBS_MODES, Observations
 from .robot import DiffBot, DriveConfig
 from .scene import HIDDEN_Z, add_lighting, build_world
 from .sensing import Sensing
@@ -51,10 +52,8 @@ from .top_down import TopDownView
 from .vulkan import explain, is_vulkan_error
 from .world import World
 
-OBS_MODES = ("state", "rgb", "rgb+state")
 
-
-class NavEnv(TopDownView, BaseEnv):
+class NavEnv(Observations, TopDownView, BaseEnv):
     """Base class of the dynnav navigation tasks (not registered itself)."""
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 5}
@@ -124,31 +123,6 @@ class NavEnv(TopDownView, BaseEnv):
             control_freq=5,
             scene_config=SceneConfig(gravity=np.zeros(3), solver_position_iterations=4),
         )
-
-    @property
-    def _default_sensor_configs(self):
-        """The front camera, created only when observations include images."""
-        if "rgb" not in self._obs_mode:
-            return []
-        return [self.camera_spec.config(self.agent.robot.links_map["camera_link"])]
-
-    @cached_property
-    def single_observation_space(self) -> gym.spaces.Space:
-        """state: lasers in [0, range], positions within the walls; rgb: uint8 (H, W, 3)."""
-        (x0, x1), (y0, y1) = self.world.arena.x_range, self.world.arena.y_range
-        n_lasers, n_pos = len(self._lasers.angles), self.world.moving_obstacle_count + 2
-        low = np.array([0.0] * n_lasers + [x0, y0] * n_pos, dtype=np.float32)
-        high = np.array([self._lasers.max_range] * n_lasers + [x1, y1] * n_pos, dtype=np.float32)
-        state = gym.spaces.Box(low, high, dtype=np.float32)
-        n = self.camera_spec.size
-        rgb = gym.spaces.Box(0, 255, (n, n, 3), dtype=np.uint8)
-        return {"state": state, "rgb": rgb, "rgb+state": gym.spaces.Dict(rgb=rgb, state=state)}[self._obs_mode]
-
-    def state_layout(self) -> list[tuple[str, int]]:
-        """Names and sizes of the parts of the state vector, in order."""
-        layout = [("lasers", len(self._lasers.angles)), ("robot_xy", 2), ("target_xy", 2)]
-        layout += [(f"obstacle{i}_xy", 2) for i in range(self.world.moving_obstacle_count)]
-        return layout
 
     # ------------------------------------------------------------------ scene
     def _setup_scene(self):
@@ -308,12 +282,17 @@ class NavEnv(TopDownView, BaseEnv):
         if isinstance(seed, (list, tuple, np.ndarray)):  # ManiSkill's batched form
             seed = int(seed[0])
         gym.Env.reset(self, seed=seed)
+        options = options or {}
+        reconfigure = options.get("reconfigure", False) or (self._reconfig_counter == 0 and self.reconfiguration_freq != 0)
+        if seed is not None and not (reconfigure or self._enhanced_determinism or "env_idx" in options):
+            # ManiSkill's seeded reset: its generators seeded as below, then _initialize_episode
+            # run with torch seeded and its state restored afterwards (about 1 ms: torch seeds
+            # every device type). The task draws nothing from torch, so the same reset without
+            # a seed, after seeding ManiSkill's generators here, is the same reset.
+            self._set_main_rng(seed)
+            self._set_episode_rng(seed, np.arange(self.num_envs))
+            seed = None
         return super().reset(seed=seed, options=options)
-
-    @property
-    def numpy_observation(self):
-        """The observation of the latest reset or step, unbatched numpy (as ``step_numpy`` gives)."""
-        return self._obs_numpy
 
     def outcome(self) -> dict:
         """Success and failure of the current snapshot, as Python values (read-only).
@@ -358,53 +337,10 @@ class NavEnv(TopDownView, BaseEnv):
             self.outcome()  # caches it
         return self._outcome["success"] or self._outcome["collision"]
 
-    def get_obs(self, info: Optional[dict] = None, unflattened: bool = False):
-        """Batched torch observation of the current step (see the module docstring)."""
-        obs = self._obs_numpy = self.observation_numpy()
-        if isinstance(obs, dict):
-            return {k: torch.from_numpy(v[None]) for k, v in obs.items()}
-        return torch.from_numpy(obs[None])
-
-    def observation_numpy(self):
-        """The current observation, unbatched numpy: the state vector, the camera image, or both."""
-        if self._obs_mode == "state":
-            return self.state_vector()
-        if self._obs_mode == "rgb":
-            return self.camera_image()
-        return {"rgb": self.camera_image(), "state": self.state_vector()}
-
-    def state_vector(self) -> np.ndarray:
-        """lasers | robot xy | target xy | moving obstacles xy, float32."""
-        return self.snapshot.state_vector()
-
-    def camera_image(self) -> np.ndarray:
-        """What the front camera sees now: uint8 (size, size, 3)."""
-        self.scene.update_render(update_sensors=True, update_human_render_cameras=False)
-        sensor = self._sensors[FRONT_CAMERA]
-        sensor.capture()
-        rgb = sensor.get_obs(rgb=True, depth=False, position=False, segmentation=False)["rgb"][0].numpy()
-        self._camera_frame = self.camera_spec.shrink(rgb)
-        return self._camera_frame
-
-    @property
-    def last_camera_frame(self) -> Optional[np.ndarray]:
-        """The frame of the latest observation (None when the task renders no images)."""
-        return getattr(self, "_camera_frame", None)
-
     @property
     def target_index(self) -> int:
         """Which of the world's targets this episode's robot must reach (0-based)."""
         return self._target_index
-
-    @property
-    def laser_angles(self) -> np.ndarray:
-        """Direction of each laser ray relative to the robot's heading (rad)."""
-        return self._lasers.angles.copy()
-
-    @property
-    def laser_range(self) -> float:
-        """Reading of a ray that meets nothing (m)."""
-        return self._lasers.max_range
 
     def get_reward(self, obs, action, info):
         return torch.tensor([self._reward], dtype=torch.float32)

@@ -73,3 +73,27 @@ def test_the_tasks_snapshots_are_read_only_and_their_own(make_env, task):
         assert np.array_equal(getattr(before, name), value)  # later steps did not change it
         with pytest.raises(ValueError):
             array[0] = 0.0
+
+
+def _maniskill_rng_state(base):
+    states = [rng.get_state()[1].tobytes() for rng in base._batched_main_rng.rngs + base._batched_episode_rng.rngs]
+    return list(base._main_seed), base._episode_seed.tolist(), base._main_rng.get_state()[1].tobytes(), states
+
+
+def test_seeded_reset_leaves_maniskill_and_torch_as_maniskills_own_does(make_env):
+    """``NavEnv.reset`` seeds ManiSkill's generators itself and skips torch's seeding (the
+    task draws nothing from torch): the result is ManiSkill's seeded reset's."""
+    import gymnasium as gym
+    import torch
+    from mani_skill.envs.sapien_env import BaseEnv
+
+    ours, theirs = make_env("DynNav-MotionAreas-v1").unwrapped, make_env("DynNav-MotionAreas-v1").unwrapped
+    for seed in (5, 6):
+        torch_state = torch.get_rng_state()
+        ours.reset(seed=seed)
+        assert torch.equal(torch.get_rng_state(), torch_state)
+        gym.Env.reset(theirs, seed=seed)
+        BaseEnv.reset(theirs, seed=seed)
+        assert _maniskill_rng_state(ours) == _maniskill_rng_state(theirs)
+        assert np.array_equal(ours.state_vector(), theirs.state_vector())
+        assert ours.np_random.bit_generator.state == theirs.np_random.bit_generator.state

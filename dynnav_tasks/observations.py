@@ -1,0 +1,107 @@
+"""What a dynnav task observes: its observation space and its observation, in numpy and torch.
+
+``obs_mode`` selects the observation:
+
+=============  ===================================================================
+``state``      float32 vector: 16 laser readings (m) | robot x, y | target x, y |
+               x, y of each moving obstacle (see ``state_layout()``)
+``rgb``        the front camera's frame, uint8 (size, size, 3)
+``rgb+state``  ``{"rgb": frame, "state": vector}``
+=============  ===================================================================
+
+The state vector is read from the step's ``StepSnapshot``; the frame is rendered when the
+observation is made.
+"""
+
+from __future__ import annotations
+
+from functools import cached_property
+from typing import Optional
+
+import gymnasium as gym
+import numpy as np
+import torch
+
+from .camera import FRONT_CAMERA
+
+OBS_MODES = ("state", "rgb", "rgb+state")
+
+
+class Observations:
+    """Mixed into ``NavEnv``: its observation space, state layout and observations.
+
+    Uses the task's ``world``, ``camera_spec``, ``snapshot`` and laser ring (``_lasers``).
+    """
+
+    @property
+    def _default_sensor_configs(self):
+        """The front camera, created only when observations include images."""
+        if "rgb" not in self._obs_mode:
+            return []
+        return [self.camera_spec.config(self.agent.robot.links_map["camera_link"])]
+
+    @cached_property
+    def single_observation_space(self) -> gym.spaces.Space:
+        """state: lasers in [0, range], positions within the walls; rgb: uint8 (H, W, 3)."""
+        (x0, x1), (y0, y1) = self.world.arena.x_range, self.world.arena.y_range
+        n_lasers, n_pos = len(self._lasers.angles), self.world.moving_obstacle_count + 2
+        low = np.array([0.0] * n_lasers + [x0, y0] * n_pos, dtype=np.float32)
+        high = np.array([self._lasers.max_range] * n_lasers + [x1, y1] * n_pos, dtype=np.float32)
+        state = gym.spaces.Box(low, high, dtype=np.float32)
+        n = self.camera_spec.size
+        rgb = gym.spaces.Box(0, 255, (n, n, 3), dtype=np.uint8)
+        return {"state": state, "rgb": rgb, "rgb+state": gym.spaces.Dict(rgb=rgb, state=state)}[self._obs_mode]
+
+    def state_layout(self) -> list[tuple[str, int]]:
+        """Names and sizes of the parts of the state vector, in order."""
+        layout = [("lasers", len(self._lasers.angles)), ("robot_xy", 2), ("target_xy", 2)]
+        layout += [(f"obstacle{i}_xy", 2) for i in range(self.world.moving_obstacle_count)]
+        return layout
+
+    @property
+    def numpy_observation(self):
+        """The observation of the latest reset or step, unbatched numpy (as ``step_numpy`` gives)."""
+        return self._obs_numpy
+
+    def get_obs(self, info: Optional[dict] = None, unflattened: bool = False):
+        """Batched torch observation of the current step (see the module docstring)."""
+        obs = self._obs_numpy = self.observation_numpy()
+        if isinstance(obs, dict):
+            return {k: torch.from_numpy(v[None]) for k, v in obs.items()}
+        return torch.from_numpy(obs[None])
+
+    def observation_numpy(self):
+        """The current observation, unbatched numpy: the state vector, the camera image, or both."""
+        if self._obs_mode == "state":
+            return self.state_vector()
+        if self._obs_mode == "rgb":
+            return self.camera_image()
+        return {"rgb": self.camera_image(), "state": self.state_vector()}
+
+    def state_vector(self) -> np.ndarray:
+        """lasers | robot xy | target xy | moving obstacles xy, float32."""
+        return self.snapshot.state_vector()
+
+    def camera_image(self) -> np.ndarray:
+        """What the front camera sees now: uint8 (size, size, 3)."""
+        self.scene.update_render(update_sensors=True, update_human_render_cameras=False)
+        sensor = self._sensors[FRONT_CAMERA]
+        sensor.capture()
+        rgb = sensor.get_obs(rgb=True, depth=False, position=False, segmentation=False)["rgb"][0].numpy()
+        self._camera_frame = self.camera_spec.shrink(rgb)
+        return self._camera_frame
+
+    @property
+    def last_camera_frame(self) -> Optional[np.ndarray]:
+        """The frame of the latest observation (None when the task renders no images)."""
+        return getattr(self, "_camera_frame", None)
+
+    @property
+    def laser_angles(self) -> np.ndarray:
+        """Direction of each laser ray relative to the robot's heading (rad)."""
+        return self._lasers.angles.copy()
+
+    @property
+    def laser_range(self) -> float:
+        """Reading of a ray that meets nothing (m)."""
+        return self._lasers.max_range
