@@ -60,15 +60,18 @@ class LaserRing:
         self._offsets = np.empty((n, 2))
         self._start_xy = np.repeat(self.start[:, None], 2, axis=1)
         self._xy = np.empty(2)
+        self._yaw = None  # the heading the directions and offsets were computed for
         self._rays = list(zip(list(self._origins), list(self._dirs), self._reaches, self._starts))
 
     def read(self, x: float, y: float, yaw: float) -> np.ndarray:
         """Readings for a robot at (x, y) facing ``yaw``; a float32 array of ``num_rays``."""
-        world = self.angles + yaw
         dirs, offsets, xy = self._dirs, self._offsets, self._xy
-        dirs[:, 0] = np.cos(world)
-        dirs[:, 1] = np.sin(world)
-        np.multiply(self._start_xy, dirs[:, :2], out=offsets)  # start * direction in float64,
+        if yaw != self._yaw:  # (the same heading, as after a straight move, needs none of this)
+            world = self.angles + yaw
+            dirs[:, 0] = np.cos(world)
+            dirs[:, 1] = np.sin(world)
+            np.multiply(self._start_xy, dirs[:, :2], out=offsets)  # start * direction in float64,
+            self._yaw = yaw
         xy[0], xy[1] = x, y
         np.add(offsets, xy, out=self._origins[:, :2], casting="same_kind")  # + (x, y), then float32
         raycast, rng = self.px.raycast, self.max_range
