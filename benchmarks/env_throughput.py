@@ -151,7 +151,8 @@ def main() -> None:
 
     print(f"machine: {cpu_name()}, {os.cpu_count()} cores ({pinned}), torch threads 1")
     print(f"python {platform.python_version()}, sapien {sapien.__version__}, mani_skill {mani_skill.__version__}, torch {torch.__version__}")
-    print(f"{args.steps} steps per figure, random actions, resets included, {'CPU' if args.cpu_time else 'wall-clock'} time\n")
+    counted = "CPU" if args.cpu_time else "wall-clock"
+    print(f"{args.steps} steps per figure, random actions, resets included, {counted} time\n")
 
     from mani_skill.utils.wrappers.gymnasium import CPUGymWrapper
 
@@ -166,7 +167,7 @@ def main() -> None:
         return rows[-1][1] / rows[-1][2]
 
     measure("ManiSkill PushCube-v1 (state, CPU)", "PushCube-v1", wrapper=None, obs_mode="state", render_backend="cpu")
-    laser = {}
+    laser = {}  # task id -> its share of the raw loop
     for task_id in dynnav_tasks.TASK_IDS:
         laser[task_id] = measure(f"{task_id} (state, NumpyWrapper)", task_id)
     for task_id in dynnav_tasks.TASK_IDS:
@@ -187,10 +188,13 @@ def main() -> None:
         print(f"{name:<{width}}  {rate:>9.0f}  {rate / push:>10.1f}  {100 * rate / beside:>11.1f}%")
     share = (time.process_time() - cpu0) / (time.perf_counter() - wall0)
     slowest = min(laser, key=laser.get)
-    print(f"\n% raw SAPIEN: the row's steps/s over those of the raw loop run in turns with it ({CHUNK} "
-          f"iterations before every {CHUNK} steps); the raw row gives their median ({min(raws):.0f} to {max(raws):.0f})")
+    print(f"\n% raw SAPIEN: the row's steps/s over those of the raw loop run in turns with it ({CHUNK} iterations "
+          f"before every {CHUNK} steps); the raw row gives their median ({min(raws):.0f} to {max(raws):.0f})")
     print(f"this process had {100 * share:.0f}% of its core over the run (CPU time / wall time)")
-    print(f"slowest laser task: {slowest} at {100 * laser[slowest]:.1f}% of the raw SAPIEN loop of this run")
+    rate = next(r for name, r, _ in rows if name == f"{slowest} (state, NumpyWrapper)")
+    print(f"slowest laser task: {slowest} at {rate:.0f} steps/s = {100 * laser[slowest]:.1f}% of the raw SAPIEN loop "
+          f"run in turns with it")
+
 
 if __name__ == "__main__":
     main()

@@ -24,8 +24,9 @@ Step
     One control step is 0.2 s (``control_freq`` 5 Hz) simulated as 4 PhysX steps of 50 ms.
     Moving obstacles are kinematic bodies moved to interpolated targets at every PhysX step.
     After it the task takes one ``StepSnapshot`` (``snapshot.py``) from what its ``Sensing``
-    (``sensing.py``) reads; ``evaluate()``, the reward and the observation are read from it. ``step_numpy`` returns the plain gymnasium
-    values (numpy, no torch at all); ``step`` (ManiSkill's batched torch API) wraps them.
+    (``sensing.py``) reads; ``evaluate()``, the reward and the observation are read from it.
+    ``step_numpy`` returns the plain gymnasium values (numpy, no torch at all); ``step``
+    (ManiSkill's batched torch API) wraps them.
 """
 
 from __future__ import annotations
@@ -283,7 +284,9 @@ class NavEnv(Observations, TopDownView, BaseEnv):
             seed = int(seed[0])
         gym.Env.reset(self, seed=seed)
         options = options or {}
-        reconfigure = options.get("reconfigure", False) or (self._reconfig_counter == 0 and self.reconfiguration_freq != 0)
+        reconfigure = options.get("reconfigure", False) or (
+            self._reconfig_counter == 0 and self.reconfiguration_freq != 0
+        )
         if seed is not None and not (reconfigure or self._enhanced_determinism or "env_idx" in options):
             # ManiSkill's seeded reset: its generators seeded as below, then _initialize_episode
             # run with torch seeded and its state restored afterwards (about 1 ms: torch seeds
