@@ -34,6 +34,10 @@ class Mover:
 
     def advance(self, rng: np.random.Generator) -> np.ndarray:
         """Move one control step; return the new positions."""
+        return np.array(self.advance_points(rng))
+
+    def advance_points(self, rng: np.random.Generator) -> list[Point]:
+        """``advance``, returning the positions as (x, y) tuples of Python floats."""
         raise NotImplementedError
 
 
@@ -55,12 +59,16 @@ class Static:
 class _StaticMover(Mover):
     def __init__(self, at: np.ndarray):
         self.at = at
+        self._points = [tuple(p) for p in at.tolist()]
 
     def reset(self, rng):
         return self.at
 
     def advance(self, rng):
         return self.at
+
+    def advance_points(self, rng):
+        return list(self._points)
 
 
 @dataclass(frozen=True)
@@ -95,21 +103,21 @@ class _BackAndForthMover(Mover):
         self.offset = 0.0
         self.sign = 1.0
 
-    def _position(self):
+    def _point(self) -> Point:
         (cx, cy), (dx, dy), t = self._c, self._d, self.offset
-        return np.array([[cx + t * dx, cy + t * dy]])
+        return cx + t * dx, cy + t * dy
 
     def reset(self, rng):
         self.offset = rng.uniform(-self.amplitude, self.amplitude)
         self.sign = 1.0 if rng.integers(2) else -1.0
-        return self._position()
+        return np.array([self._point()])
 
-    def advance(self, rng):
+    def advance_points(self, rng):
         a, s = self.amplitude, self.offset + self.sign * self.speed
         while s > a or s < -a:  # reflect at the ends (more than once if fast and short)
             s, self.sign = (2 * a - s, -1.0) if s > a else (-2 * a - s, 1.0)
         self.offset = s
-        return self._position()
+        return [self._point()]
 
 
 @dataclass(frozen=True)
@@ -183,21 +191,21 @@ class _RouteMover(Mover):
         self.speed = 0.0
         self.s = 0.0
 
-    def _positions(self):
+    def _points(self) -> list[Point]:
         point_at, s, spacing = self.spec.point_at, self.s, self.spacing
         if self.count == 1:
-            return np.array([point_at(s)])
-        return np.array([point_at(s + i * spacing) for i in range(self.count)])
+            return [point_at(s)]
+        return [point_at(s + i * spacing) for i in range(self.count)]
 
     def reset(self, rng):
         lo, hi = self.spec.speed_range
         self.speed = rng.uniform(lo, hi)
         self.s = rng.uniform(0.0, self.length)
-        return self._positions()
+        return np.array(self._points())
 
-    def advance(self, rng):
+    def advance_points(self, rng):
         self.s = (self.s + self.speed) % self.length
-        return self._positions()
+        return self._points()
 
 
 @dataclass(frozen=True)
@@ -252,7 +260,7 @@ class _RandomInRectMover(Mover):
         self.heading = rng.uniform(-math.pi, math.pi)
         return np.array([self._xy])
 
-    def advance(self, rng):
+    def advance_points(self, rng):
         turn, speed = self._turn, self._speed
         heading = self.heading + (turn.low + turn.span * rng.random())  # turn.draw(rng), inlined
         step = speed.low + speed.span * rng.random()  # speed.draw(rng)
@@ -266,7 +274,7 @@ class _RandomInRectMover(Mover):
             y, dy = (2 * y_lo - y if y < y_lo else 2 * y_hi - y), -dy
         self.heading = math.atan2(dy, dx)
         self._xy = [x, y]
-        return np.array([[x, y]])
+        return [(x, y)]
 
 
 class _UniformRange:

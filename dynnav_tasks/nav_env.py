@@ -173,7 +173,7 @@ class NavEnv(Observations, TopDownView, BaseEnv):
         for t, (mover, entity) in enumerate(self._targets):
             xy = mover.reset(rng)[0]
             if t == self._target_index:
-                self._target_xy = xy
+                self._target_xy = tuple(xy.tolist())
                 entity.set_pose(sapien.Pose([xy[0], xy[1], 0.0]))
             else:
                 entity.set_pose(sapien.Pose([xy[0], xy[1], HIDDEN_Z]))  # out of sight under the floor
@@ -247,17 +247,14 @@ class NavEnv(Observations, TopDownView, BaseEnv):
         if not movers:
             return self._moving_xy
         rng = self.np_random
-        if len(movers) == 1:
-            return movers[0][0].advance(rng)
-        return np.concatenate([mover.advance(rng) for mover, _ in movers])
+        return np.array([p for mover, _ in movers for p in mover.advance_points(rng)])
 
     def _advance_targets(self):
         mover, entity = self._targets[self._target_index]
-        xy = mover.advance(self.np_random)[0]
-        x, y = xy.tolist()
-        if x != self._target_xy[0] or y != self._target_xy[1]:
+        xy = mover.advance_points(self.np_random)[0]
+        if xy != self._target_xy:
             pose = self._kinematic_pose  # the entity copies it
-            pose.p = [x, y, 0.0]
+            pose.p = [xy[0], xy[1], 0.0]
             entity.set_pose(pose)
         self._target_xy = xy
 

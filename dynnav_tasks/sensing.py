@@ -103,7 +103,7 @@ class Sensing:
             step=step,
             pose=pose,
             lasers=_read_only(self.lasers.read(x, y, yaw)),
-            target_xy=_read_only(np.array((float(target_xy[0]), float(target_xy[1])))),
+            target_xy=_read_only(np.array(target_xy, dtype=np.float64)),
             obstacle_xy=obstacle_xy,
             obstacle_half=self._obstacle_half,
             moving_count=len(moving),

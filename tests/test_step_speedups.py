@@ -36,12 +36,18 @@ def test_nearest_box_distance_is_box_distance_to_the_last_bit():
         motion.RandomInRect(x_range=(0.5, 1.5), y_range=(1.7, 3.0), start=(1.0, 2.0)),
         motion.Route(waypoints=((0, 0), (0, 2), (2, 2), (2, 0)), speed_range=(0.05, 3.0), count=3),
         motion.BackAndForth(center=(0, 0), direction=(1, 2), amplitude=0.1, speed=0.45),
+        motion.Static(at=(1.0, 2.0)),
     ],
 )
 def test_movers_return_float64_arrays_of_their_count(spec):
     mover, rng = spec.mover(), np.random.default_rng(1)
     for xy in [mover.reset(rng)] + [mover.advance(rng) for _ in range(50)]:
         assert xy.dtype == np.float64 and xy.shape == (spec.count, 2)
+    arrays, points = spec.mover(), spec.mover()
+    rng_a, rng_p = np.random.default_rng(2), np.random.default_rng(2)
+    arrays.reset(rng_a), points.reset(rng_p)
+    for _ in range(50):  # advance_points gives advance's positions as tuples of floats
+        assert [tuple(p) for p in arrays.advance(rng_a).tolist()] == points.advance_points(rng_p)
 
 
 def test_take_snapshot_copies_its_inputs_and_checks_the_box_count():
