@@ -30,7 +30,7 @@ def test_unknown_reward_mode():
         gym.make("DynNav-MovingTarget-v1", reward_mode="potentail")
     msg = str(err.value)
     assert "Unknown reward_mode 'potentail'" in msg
-    assert "distance_orientation_always, distance_orientation, distance, potential, sparse" in msg
+    assert "distance_orientation_always, distance_orientation, distance, potential, potential_as_written, sparse" in msg
     assert "Did you mean 'potential'" in msg
 
 
