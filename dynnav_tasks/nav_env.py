@@ -162,7 +162,6 @@ class NavEnv(Observations, TopDownView, BaseEnv):
             obstacle_half=built.obstacle_half,
             collision_margin=self.collision_margin,
         )
-        self._lasers = self._sensing.lasers
 
     # ------------------------------------------------------------------ episodes
     def _initialize_episode(self, env_idx: torch.Tensor, options: dict):
@@ -347,7 +346,7 @@ class NavEnv(Observations, TopDownView, BaseEnv):
 
     def close(self):
         """Release the scene at once, so nothing of SAPIEN's lingers for a forked child."""
-        for name in ("_px", "_lasers", "_sensing", "_movers", "_moving_bodies", "_targets", "segmentation_id_map"):
+        for name in ("_px", "_sensing", "_movers", "_moving_bodies", "_targets", "segmentation_id_map"):
             self.__dict__.pop(name, None)
         super().close()
 

@@ -30,7 +30,7 @@ OBS_MODES = ("state", "rgb", "rgb+state")
 class Observations:
     """Mixed into ``NavEnv``: its observation space, state layout and observations.
 
-    Uses the task's ``world``, ``camera_spec``, ``snapshot`` and laser ring (``_lasers``).
+    Uses the task's ``world``, ``camera_spec``, ``snapshot`` and laser ring (``_sensing.lasers``).
     """
 
     @property
@@ -44,9 +44,9 @@ class Observations:
     def single_observation_space(self) -> gym.spaces.Space:
         """state: lasers in [0, range], positions within the walls; rgb: uint8 (H, W, 3)."""
         (x0, x1), (y0, y1) = self.world.arena.x_range, self.world.arena.y_range
-        n_lasers, n_pos = len(self._lasers.angles), self.world.moving_obstacle_count + 2
+        n_lasers, n_pos = len(self._sensing.lasers.angles), self.world.moving_obstacle_count + 2
         low = np.array([0.0] * n_lasers + [x0, y0] * n_pos, dtype=np.float32)
-        high = np.array([self._lasers.max_range] * n_lasers + [x1, y1] * n_pos, dtype=np.float32)
+        high = np.array([self._sensing.lasers.max_range] * n_lasers + [x1, y1] * n_pos, dtype=np.float32)
         state = gym.spaces.Box(low, high, dtype=np.float32)
         n = self.camera_spec.size
         rgb = gym.spaces.Box(0, 255, (n, n, 3), dtype=np.uint8)
@@ -54,7 +54,7 @@ class Observations:
 
     def state_layout(self) -> list[tuple[str, int]]:
         """Names and sizes of the parts of the state vector, in order."""
-        layout = [("lasers", len(self._lasers.angles)), ("robot_xy", 2), ("target_xy", 2)]
+        layout = [("lasers", len(self._sensing.lasers.angles)), ("robot_xy", 2), ("target_xy", 2)]
         layout += [(f"obstacle{i}_xy", 2) for i in range(self.world.moving_obstacle_count)]
         return layout
 
@@ -99,9 +99,9 @@ class Observations:
     @property
     def laser_angles(self) -> np.ndarray:
         """Direction of each laser ray relative to the robot's heading (rad)."""
-        return self._lasers.angles.copy()
+        return self._sensing.lasers.angles.copy()
 
     @property
     def laser_range(self) -> float:
         """Reading of a ray that meets nothing (m)."""
-        return self._lasers.max_range
+        return self._sensing.lasers.max_range
