@@ -69,8 +69,6 @@ class DQNConfig:
     """environment steps between hard target copies (C in Alg. 1)"""
     tau: float = 0.005
     """soft target update rate"""
-    accelerate: bool = True
-    """on the CPU, run the default MLP's update in numpy on the module's own parameters (same result, about 2x faster)"""
 
 
 @dataclass

@@ -69,7 +69,7 @@ def train(config: Config) -> Path:
     q_network = build_q_network(config, specs, n_actions)
     learner = DQNLearner(q_network, Batch(d.batch_size, specs), d.gamma, double=d.algorithm == "ddqn", loss=d.loss,
                          max_grad_norm=d.max_grad_norm, learning_rate=config.schedule.learning_rate,
-                         device=config.run.device, accelerate=d.accelerate)
+                         device=config.run.device)
     srl = experience.srl  # the camera's auto-encoder (None for state and pixel runs)
     rng = np.random.default_rng(config.seed)
     start_episode, global_step, wall_time = 0, 0, 0.0

@@ -7,14 +7,11 @@ makes one gradient step on a minibatch:
            a* = argmax_a Q_target(s', a)  (DQN, Alg. 1)   or   argmax_a Q(s', a)  (Double DQN, App. A)
     loss = mean of (Q(s, a) - y)^2  (mse)   or   smooth L1 with beta 1  (huber)
 
-then optional clipping of the gradient's global norm and one Adam step. The target network
-is copied every C steps (``update_target()``) or moved by ``tau`` (``update_target(tau)``).
+then optional clipping of the gradient's global norm and one Adam step (torch's fused Adam on the
+CPU). The target network is copied every C steps (``update_target()``) or moved by ``tau``
+(``update_target(tau)``).
 A module takes the observation's inputs (one tensor for a state vector; frames and state parts
 for pixel runs), each with a leading batch dimension, and returns (batch, actions).
-
-For the default MLP on the CPU the same update also exists written directly in numpy on the
-module's own parameters (``agents.fast_mlp``), about twice as fast at the study's sizes;
-``accelerate=False`` always uses torch.
 """
 
 from __future__ import annotations
@@ -72,7 +69,7 @@ class DQNLearner:
 
     def __init__(self, q_network: nn.Module, batch: Batch, gamma: float = 0.97, double: bool = False,
                  loss: str = "mse", max_grad_norm: float = 0.0, learning_rate: float = 1e-3,
-                 device: str = "cpu", accelerate: bool = True):
+                 device: str = "cpu"):
         if loss not in LOSSES:
             raise ValueError(f"unknown loss {loss!r}; valid losses: {', '.join(LOSSES)}")
         self.device = torch.device(device)
@@ -81,12 +78,6 @@ class DQNLearner:
         self.optimizer = make_adam(self.q, learning_rate)
         self.gamma, self.double, self.loss, self.max_grad_norm = gamma, double, loss, max_grad_norm
         self.batch = batch
-        self.fast = None
-        if accelerate:
-            from .fast_mlp import NumpyMLPUpdate
-
-            if NumpyMLPUpdate.supports(self):
-                self.fast = NumpyMLPUpdate(self)
 
     @property
     def learning_rate(self) -> float:
@@ -100,12 +91,10 @@ class DQNLearner:
     # ------------------------------------------------------------------ acting
     def q_values(self, x) -> np.ndarray:
         """Q-values (actions,) of one observation's input (an array, or a tuple of arrays)."""
-        if self.fast is not None:
-            return self.fast.q_values(x)
         inputs = x if isinstance(x, tuple) else (x,)
         if self.q.training:
             self.q.eval()
-        with torch.no_grad():
+        with torch.inference_mode():
             tensors = [torch.as_tensor(np.asarray(v))[None].to(self.device) for v in inputs]
             return self.q(*tensors)[0].float().cpu().numpy()
 
@@ -132,8 +121,6 @@ class DQNLearner:
 
     def update(self) -> float:
         """One gradient step on ``self.batch`` (fill it first); returns the loss."""
-        if self.fast is not None:
-            return self.fast.update()
         obs, next_obs, actions, rewards, not_done = self._tensors()
         if not self.q.training:  # training mode: e.g. the pixel network's random shifts
             self.q.train()
@@ -170,5 +157,3 @@ class DQNLearner:
         except RuntimeError as err:  # missing keys or other shapes
             raise ValueError(f"the checkpoint's Q-network does not fit this run's: {err}") from err
         self.optimizer.load_state_dict(state["optimizer"])
-        if self.fast is not None:
-            self.fast.bind()

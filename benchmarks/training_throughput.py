@@ -4,8 +4,7 @@ random-policy rate, measured in the same run on one core.
     python benchmarks/training_throughput.py [--episodes-52 150] [--episodes-55c 12] [--no-pin]
 
 * world 5.2 (state vector): the random policy through ``make_env``, then ``agents.dqn.train``
-  with one Double-DQN update per step (batch 128, 2 x 128 MLP), with the numpy acceleration
-  (the default) and on the torch path (``accelerate: false``);
+  with one Double-DQN update per step (batch 128, 2 x 128 MLP);
 * world 5.5c with 4 stacked gray frames: the random policy (a 32x32 frame rendered every step),
   then training the pixel agent (conv Q-network, random shifts, one update every 4 steps, batch
   32) and the study's auto-encoder agent (latent 15, one update per step, batch 128; its
@@ -88,8 +87,7 @@ def main() -> None:
     rows = []
     base = random_policy_rate(STATE_TASK, 0, args.random_steps)
     rows.append(("5.2 state", "random policy", base, None))
-    for label, accelerate in (("DQN, numpy acceleration (default)", True), ("DQN, torch path", False)):
-        rows.append(("5.2 state", label, training_rate(**state, accelerate=accelerate), base))
+    rows.append(("5.2 state", "Double DQN, one update per step", training_rate(**state), base))
     base = random_policy_rate(CAMERA_TASK, 4, args.random_steps // 3)
     rows.append(("5.5c 4 frames", "random policy", base, None))
     pixels = training_rate(**camera, camera_input="pixels", learning_starts=200, batch_size=32, train_frequency=4)

@@ -1,5 +1,7 @@
-"""The DQN update on torch modules: the numpy acceleration of the default MLP computes what the
-torch path computes on the same weights; any module with the right shapes trains."""
+"""The DQN update on torch modules: it is the textbook (Double) DQN step with Adam, and any
+module with the right shapes trains."""
+
+import copy
 
 import numpy as np
 import pytest
@@ -13,11 +15,10 @@ from agents.replay import ReplayMemory
 OBS, ACTIONS, BATCH = 24, 3, 128
 
 
-def learner(accelerate: bool, module=None, **kwargs) -> DQNLearner:
+def learner(module=None, **kwargs) -> DQNLearner:
     torch.manual_seed(0)
     module = module if module is not None else MLPQNetwork(OBS, ACTIONS, (128, 128))
-    out = DQNLearner(module, Batch(BATCH, [((OBS,), np.float32)]), learning_rate=3e-3, accelerate=accelerate,
-                     **kwargs)
+    out = DQNLearner(module, Batch(BATCH, [((OBS,), np.float32)]), learning_rate=3e-3, **kwargs)
     with torch.no_grad():  # a target that differs from the online network
         for p in out.target.parameters():
             p.add_(0.05 * torch.randn_like(p))
@@ -33,51 +34,51 @@ def fill(batch: Batch, seed: int) -> None:
     batch.not_done[:] = rng.random(BATCH) > 0.2
 
 
+def textbook_update(dqn: DQNLearner, double: bool, loss: str, max_grad_norm: float):
+    """The update of Alg. 1 / App. A written out on copies of the networks, with plain
+    ``torch.optim.Adam``: what ``DQNLearner.update`` must compute."""
+    q, target = copy.deepcopy(dqn.q), copy.deepcopy(dqn.target)
+    adam = torch.optim.Adam(q.parameters(), lr=dqn.learning_rate)
+    adam.load_state_dict(copy.deepcopy(dqn.optimizer.state_dict()))  # Adam would share its tensors
+    b = dqn.batch
+    s, s2 = torch.tensor(b.obs[0]), torch.tensor(b.next_obs[0])
+    a, r, nd = torch.tensor(b.actions), torch.tensor(b.rewards), torch.tensor(b.not_done)
+    with torch.no_grad():
+        a_star = (q(s2) if double else target(s2)).argmax(1)
+        y = r + dqn.gamma * nd * target(s2)[torch.arange(BATCH), a_star]
+    pred = q(s)[torch.arange(BATCH), a]
+    err = pred - y
+    value = (err**2).mean() if loss == "mse" else torch.where(err.abs() < 1, 0.5 * err**2, err.abs() - 0.5).mean()
+    adam.zero_grad()
+    value.backward()
+    if max_grad_norm > 0:
+        nn.utils.clip_grad_norm_(q.parameters(), max_grad_norm)
+    adam.step()
+    return float(value.detach()), [p.detach() for p in q.parameters()]
+
+
 @pytest.mark.parametrize("double,loss,max_grad_norm", [(False, "mse", 0.0), (True, "mse", 0.0), (False, "huber", 0.0),
                                                       (True, "huber", 1.0), (False, "mse", 0.5)])
-def test_numpy_acceleration_equals_the_torch_update(double, loss, max_grad_norm):
-    plain, fast = (learner(a, double=double, loss=loss, max_grad_norm=max_grad_norm) for a in (False, True))
-    assert plain.fast is None and fast.fast is not None
+def test_the_update_is_the_textbook_dqn_step(double, loss, max_grad_norm):
+    dqn = learner(double=double, loss=loss, max_grad_norm=max_grad_norm)
     for step in range(5):  # several steps exercise Adam's moments and bias correction
-        fill(plain.batch, 10 + step)
-        fill(fast.batch, 10 + step)
-        assert fast.update() == pytest.approx(plain.update(), rel=1e-5)
-        for a, b in zip(plain.q.parameters(), fast.q.parameters()):
-            torch.testing.assert_close(a, b, rtol=1e-4, atol=1e-6)
-    fast.update_target(0.3)
-    plain.update_target(0.3)
-    for a, b in zip(plain.target.parameters(), fast.target.parameters()):
-        torch.testing.assert_close(a, b, rtol=1e-4, atol=1e-6)
-    mine, theirs = fast.optimizer.state_dict()["state"], plain.optimizer.state_dict()["state"]
-    for i in theirs:
-        for key in ("step", "exp_avg", "exp_avg_sq"):
-            torch.testing.assert_close(mine[i][key], theirs[i][key], rtol=1e-4, atol=1e-8)
-
-
-def test_the_acceleration_shares_the_modules_weights():
-    fast = learner(True)
-    fill(fast.batch, 1)
-    fast.update()
+        fill(dqn.batch, 10 + step)
+        expected_loss, expected_params = textbook_update(dqn, double, loss, max_grad_norm)
+        assert dqn.update() == pytest.approx(expected_loss, rel=1e-5)
+        for got, want in zip(dqn.q.parameters(), expected_params):
+            torch.testing.assert_close(got.detach(), want, rtol=1e-4, atol=1e-6)
     x = np.random.default_rng(2).normal(size=OBS).astype(np.float32)
-    with torch.no_grad():
-        torch_q = fast.q(torch.from_numpy(x)[None])[0].numpy()
-    np.testing.assert_allclose(fast.q_values(x), torch_q, rtol=1e-5, atol=1e-6)
-    with torch.no_grad():  # a change made through the module is the accelerated path's change too
-        fast.q.linears[-1].bias.add_(10.0)
-    np.testing.assert_allclose(fast.q_values(x), torch_q + 10.0, rtol=1e-5)
-    # a checkpoint round trip re-binds the shared buffers
-    state = fast.state_dict()
-    other = learner(True)
-    other.load_state_dict(state)
-    np.testing.assert_allclose(other.q_values(x), fast.q_values(x), rtol=1e-6)
+    with torch.no_grad():  # acting reads the same module
+        np.testing.assert_allclose(dqn.q_values(x), dqn.q(torch.from_numpy(x)[None])[0].numpy(), rtol=1e-6)
+    other = learner(double=double, loss=loss, max_grad_norm=max_grad_norm)  # a checkpoint round trip: the same next step
+    other.load_state_dict(dqn.state_dict())
+    fill(dqn.batch, 3)
     fill(other.batch, 3)
-    fill(fast.batch, 3)
-    assert other.update() == pytest.approx(fast.update(), rel=1e-6)
-    assert other.q.linears[0].weight.data_ptr() == other.fast.flat.ctypes.data
+    assert other.update() == dqn.update()
 
 
 def test_target_updates():
-    dqn = learner(False)
+    dqn = learner()
     online = [p.detach().clone() for p in dqn.q.parameters()]
     before = [p.detach().clone() for p in dqn.target.parameters()]
     dqn.update_target(tau=0.25)
@@ -90,8 +91,7 @@ def test_target_updates():
 
 def test_a_dueling_module_trains_with_the_same_update():
     module = dueling_mlp([(OBS,)], ACTIONS)
-    dqn = learner(True, module=module)
-    assert dqn.fast is None  # only the default MLP has the numpy path
+    dqn = learner(module=module)
     fill(dqn.batch, 0)
     dqn.batch.not_done[:] = 0.0  # fixed targets y = r: the loss must fall
     losses = [dqn.update() for _ in range(200)]
