@@ -258,7 +258,7 @@ def render(groups: dict[str, list[dict]], figures: list[tuple[str, str]], source
         t = THESIS.get(e, dict(success="not in the study", converge="-"))
         unfinished += s["unfinished"]
         task = tasks[e]
-        ceiling = _pct(ceilings.get(task))
+        ceiling = _ceiling(ceilings.get(task))
         if not s["seeds"]:
             lines.append(f"| `{e}` | {task} | 0 | not finished | {t.get('success', '-')} | {ceiling} | | | "
                          f"{t.get('converge', '-')} | | |")
