@@ -1,0 +1,84 @@
+"""Test outcomes broken down by what each episode drew: the chosen target's start and, in worlds
+whose obstacles run on a route (5.3), the obstacles' speed.
+
+    python -m agents.outcomes RUN_DIR [RUN_DIR ...] [--speed-bins 0.1]
+
+Reads each run's ``eval.json`` (the test phase's episodes and their seeds), resets the run's
+task with every episode's seed to read what that episode drew (no policy is run: a reset with
+the same seed draws the same world), and prints success / collision / timeout rates per group
+over all the given runs together.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from collections import Counter, defaultdict
+from pathlib import Path
+
+OUTCOMES = ("success", "collision", "timeout")
+
+
+def route_speed(env) -> float | None:
+    """The episode's obstacle speed (m per step) when the task's moving obstacles follow a route."""
+    speeds = [m.speed for m, _ in env.unwrapped._movers if type(m).__name__ == "_RouteMover"]
+    return max(speeds) if speeds else None
+
+
+def breakdown(run_dirs: list[str | Path], speed_bin: float = 0.1) -> dict[tuple, Counter]:
+    """(speed bin's lower edge or None, target start) -> Counter of outcomes, over the runs' test episodes."""
+    import gymnasium as gym
+
+    import dynnav_tasks  # noqa: F401  (registers the tasks)
+
+    evals = []
+    for d in run_dirs:
+        path = Path(d) / "eval.json"
+        if not path.is_file():
+            raise FileNotFoundError(f"{path} not found: give run directories whose test phase has run "
+                                    "(python -m agents.dqn --eval --checkpoint RUN writes it)")
+        evals.append(json.loads(path.read_text()))
+    tasks = {e["task"] for e in evals}
+    if len(tasks) != 1:
+        raise ValueError(f"the runs test different tasks ({', '.join(sorted(tasks))}): give runs of one task")
+    env = gym.make(tasks.pop())
+    groups: dict[tuple, Counter] = defaultdict(Counter)
+    try:
+        for e in evals:
+            for ep in e["episodes"]:
+                env.reset(seed=ep["seed"])
+                speed = route_speed(env)
+                low = None if speed is None else round(int(speed / speed_bin) * speed_bin, 6)
+                groups[(low, tuple(ep["target_start"]))][ep["outcome"]] += 1
+    finally:
+        env.close()
+    return dict(groups)
+
+
+def render(groups: dict[tuple, Counter], speed_bin: float) -> str:
+    lines = ["| obstacle speed (m/step) | target | episodes | success | collision | timeout |", "|---|---|---|---|---|---|"]
+    for (low, target) in sorted(groups, key=lambda k: (k[0] if k[0] is not None else -1, k[1])):
+        c = groups[(low, target)]
+        n = sum(c.values())
+        speed = "-" if low is None else f"{low:.2f}-{low + speed_bin:.2f}"
+        rates = " | ".join(f"{c[o] / n:.0%}" for o in OUTCOMES)
+        lines.append(f"| {speed} | ({target[0]:g}, {target[1]:g}) | {n} | {rates} |")
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("runs", nargs="+", help="run directories (with eval.json)")
+    parser.add_argument("--speed-bins", type=float, default=0.1, help="width of the speed bins (m per step)")
+    args = parser.parse_args(argv)
+    if args.speed_bins <= 0:
+        parser.error(f"--speed-bins must be positive, got {args.speed_bins}")
+    try:
+        groups = breakdown(args.runs, args.speed_bins)
+    except (FileNotFoundError, ValueError) as err:
+        raise SystemExit(f"agents.outcomes: {err}") from None
+    print(render(groups, args.speed_bins))
+
+
+if __name__ == "__main__":
+    main()
