@@ -21,11 +21,18 @@ OUTCOMES = ("success", "collision", "timeout")
 
 def route_speed(env) -> float | None:
     """The episode's obstacle speed (m per step) when the task's moving obstacles follow a route."""
-    speeds = [m.speed for m, _ in env.unwrapped._movers if type(m).__name__ == "_RouteMover"]
+    from dynnav_tasks.motion import _RouteMover
+
+    speeds = [m.speed for m, _ in env.unwrapped._movers if isinstance(m, _RouteMover)]
     return max(speeds) if speeds else None
 
 
-def breakdown(run_dirs: list[str | Path], speed_bin: float = 0.1) -> dict[tuple, Counter]:
+def speed_bin(speed: float | None, width: float) -> float | None:
+    """The lower edge of the bin of ``width`` that holds ``speed`` (None stays None)."""
+    return None if speed is None else round(int(speed / width) * width, 6)
+
+
+def breakdown(run_dirs: list[str | Path], width: float = 0.1) -> dict[tuple, Counter]:
     """(speed bin's lower edge or None, target start) -> Counter of outcomes, over the runs' test episodes."""
     import gymnasium as gym
 
@@ -47,20 +54,19 @@ def breakdown(run_dirs: list[str | Path], speed_bin: float = 0.1) -> dict[tuple,
         for e in evals:
             for ep in e["episodes"]:
                 env.reset(seed=ep["seed"])
-                speed = route_speed(env)
-                low = None if speed is None else round(int(speed / speed_bin) * speed_bin, 6)
+                low = speed_bin(route_speed(env), width)
                 groups[(low, tuple(ep["target_start"]))][ep["outcome"]] += 1
     finally:
         env.close()
     return dict(groups)
 
 
-def render(groups: dict[tuple, Counter], speed_bin: float) -> str:
+def render(groups: dict[tuple, Counter], width: float) -> str:
     lines = ["| obstacle speed (m/step) | target | episodes | success | collision | timeout |", "|---|---|---|---|---|---|"]
     for (low, target) in sorted(groups, key=lambda k: (k[0] if k[0] is not None else -1, k[1])):
         c = groups[(low, target)]
         n = sum(c.values())
-        speed = "-" if low is None else f"{low:.2f}-{low + speed_bin:.2f}"
+        speed = "-" if low is None else f"{low:.2f}-{low + width:.2f}"
         rates = " | ".join(f"{c[o] / n:.0%}" for o in OUTCOMES)
         lines.append(f"| {speed} | ({target[0]:g}, {target[1]:g}) | {n} | {rates} |")
     return "\n".join(lines)

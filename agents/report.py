@@ -208,7 +208,7 @@ def cells_table(summaries: dict[str, dict], tasks: dict[str, str], ceilings: dic
     lines = ["## The study's numbered cells", "",
              "Per success rate the study states as a number: our best experiment for it, the study's own "
              "configuration or a named variant (an experiment whose name extends the study's), with its "
-             f"95% interval over seeds; rows with {MIN_SEEDS} seeds or more come first, and only they can "
+             f"95% interval over seeds; a row with {MIN_SEEDS} seeds or more is preferred, and only such a row can "
              "meet the study's number. The ceiling is what a planner that sees the full state reaches "
              "(`python -m dynnav_tasks.state_planner`).", "",
              "| study's experiment | study | our best row | seeds | success (95% CI) | ceiling | at or above |",

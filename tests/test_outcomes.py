@@ -6,7 +6,7 @@ import gymnasium as gym
 import pytest
 
 import dynnav_tasks  # noqa: F401
-from agents.outcomes import breakdown, render, route_speed
+from agents.outcomes import breakdown, render, route_speed, speed_bin
 
 TASK = "DynNav-MovingObstacles-v1"
 
@@ -29,11 +29,11 @@ def test_episodes_are_grouped_by_the_speed_and_target_their_seed_drew(tmp_path):
     episodes = [dict(seed=s, outcome=o, target_start=list(drawn[s][1])) for s, o in zip(range(6), outcomes)]
     a = _eval(tmp_path / "a", TASK, episodes[:3])
     b = _eval(tmp_path / "b", TASK, episodes[3:])
-    groups = breakdown([a, b], speed_bin=0.1)
+    groups = breakdown([a, b], width=0.1)
     assert sum(sum(c.values()) for c in groups.values()) == 6
     for seed, outcome in zip(range(6), outcomes):
         speed, target = drawn[seed]
-        assert groups[(round(int(speed / 0.1) * 0.1, 6), target)][outcome] >= 1
+        assert groups[(speed_bin(speed, 0.1), target)][outcome] >= 1
     table = render(groups, 0.1)
     assert table.count("\n") == len(groups) + 1 and "| (3, " in table
 
