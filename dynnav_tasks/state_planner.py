@@ -123,11 +123,17 @@ def _arc_position(route: Route, p) -> float:
     return float(cum[i] - seg[i] + t[i] * seg[i])
 
 
-def _box_gap(x, y, boxes):
-    """Distance from (x, y) to each box (lo, hi): array; 0 inside."""
-    dx = np.maximum(np.maximum(boxes[..., 0, 0] - x, x - boxes[..., 1, 0]), 0)
-    dy = np.maximum(np.maximum(boxes[..., 0, 1] - y, y - boxes[..., 1, 1]), 0)
-    return np.hypot(dx, dy)
+def _hits(x, y, boxes, clearance_sq) -> bool:
+    """Whether (x, y) comes closer than the clearance to any box (lo_x, lo_y, hi_x, hi_y).
+
+    Plain Python over a few boxes: the search calls it for every node, where numpy's per-call
+    cost is larger than the work (``benchmarks/state_planner.py``)."""
+    for lx, ly, hx, hy in boxes:
+        dx = lx - x if x < lx else (x - hx if x > hx else 0.0)
+        dy = ly - y if y < ly else (y - hy if y > hy else 0.0)
+        if dx * dx + dy * dy < clearance_sq:
+            return True
+    return False
 
 
 @dataclass
@@ -158,7 +164,7 @@ class StatePlanner:
         self._x, self._y = arena.x_range, arena.y_range
         static = [(np.asarray(g.motion.at, float), np.asarray(g.half_size, float))
                   for g in self.world.obstacles if not g.moving]
-        self._static = np.array([[c - h, c + h] for c, h in static]).reshape(-1, 2, 2)
+        self._static = [(*(c - h), *(c + h)) for c, h in static]
 
     def reset(self) -> None:
         self.forecast.reset()
@@ -167,9 +173,7 @@ class StatePlanner:
         c = self.clearance
         if not (self._x[0] + c <= x <= self._x[1] - c and self._y[0] + c <= y <= self._y[1] - c):
             return False
-        if len(self._static) and _box_gap(x, y, self._static).min() < c:
-            return False
-        return not (len(moving_boxes) and _box_gap(x, y, moving_boxes).min() < c)
+        return not (_hits(x, y, self._static, c * c) or _hits(x, y, moving_boxes, c * c))
 
     def act(self, state: np.ndarray, yaw: float) -> int:
         """The first action of the best plan from ``state`` (the task's state vector) and the
@@ -178,6 +182,7 @@ class StatePlanner:
         tx, ty = float(state[18]), float(state[19])
         moving = np.asarray(state[20:], float).reshape(-1, 2)
         boxes = self.forecast.boxes(moving, self.horizon) if len(moving) else np.zeros((self.horizon + 1, 0, 2, 2))
+        boxes = [[tuple(b) for b in step.reshape(-1, 4).tolist()] for step in boxes]  # (lo_x, lo_y, hi_x, hi_y)
 
         def h(x, y, yaw_):
             d = math.hypot(tx - x, ty - y)
