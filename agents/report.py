@@ -314,8 +314,10 @@ def write_report(paths: list[str | Path], out: str | Path = "RESULTS.md", figure
     out.parent.mkdir(parents=True, exist_ok=True)
     written = []
     for stem, title, members in FIGURES:
-        present = [(e, label, groups[e]) for e, label in members if e in groups]
-        if present:
+        # a comparison needs two curves; finished runs only, as in the tables
+        present = [(e, label, done) for e, label in members
+                   if (done := [r for r in groups.get(e, []) if r["finished"]])]
+        if len(present) >= 2:
             path = figures_dir / f"{stem}.png"
             draw_figure(path, title, present)
             written.append((os.path.relpath(path.resolve(), out.parent.resolve()), title))

@@ -78,6 +78,10 @@ def test_sweep_runs_every_experiment_and_the_report_shows_them(sweep, tmp_path):
     picture = tmp_path / "docs" / "results" / "fig6_7_distance_gamma.png"
     assert picture.is_file() and picture.stat().st_size < 150_000
     assert "docs/results/fig6_7_distance_gamma.png" in text
+    # one experiment of the figure is no comparison: no figure
+    alone = write_report([_run_dir(out, A)], tmp_path / "alone" / "RESULTS.md")
+    assert not (tmp_path / "alone" / "docs" / "results" / "fig6_7_distance_gamma.png").exists()
+    assert "fig6_7_distance_gamma.png" not in alone.read_text()
 
 
 def test_restarted_sweep_skips_finished_runs_and_resumes_the_others(sweep):
