@@ -102,8 +102,13 @@ def load_run(run_dir: Path) -> dict:
     return run
 
 
+def finished(runs: list[dict]) -> list[dict]:
+    """The runs that have their test (eval.json): the only ones the tables and figures show."""
+    return [r for r in runs if r["finished"]]
+
+
 def summarize(runs: list[dict]) -> dict:
-    done = [r for r in runs if r["finished"]]
+    done = finished(runs)
     out = dict(seeds=len(done), unfinished=[r for r in runs if not r["finished"]])
     if not done:
         return out
@@ -314,9 +319,8 @@ def write_report(paths: list[str | Path], out: str | Path = "RESULTS.md", figure
     out.parent.mkdir(parents=True, exist_ok=True)
     written = []
     for stem, title, members in FIGURES:
-        # a comparison needs two curves; finished runs only, as in the tables
-        present = [(e, label, done) for e, label in members
-                   if (done := [r for r in groups.get(e, []) if r["finished"]])]
+        # a comparison needs two curves
+        present = [(e, label, done) for e, label in members if (done := finished(groups.get(e, [])))]
         if len(present) >= 2:
             path = figures_dir / f"{stem}.png"
             draw_figure(path, title, present)

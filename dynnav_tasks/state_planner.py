@@ -165,6 +165,7 @@ class StatePlanner:
         static = [(np.asarray(g.motion.at, float), np.asarray(g.half_size, float))
                   for g in self.world.obstacles if not g.moving]
         self._static = [(*(c - h), *(c + h)) for c, h in static]
+        self._clearance_sq = self.clearance * self.clearance
 
     def reset(self) -> None:
         self.forecast.reset()
@@ -173,7 +174,7 @@ class StatePlanner:
         c = self.clearance
         if not (self._x[0] + c <= x <= self._x[1] - c and self._y[0] + c <= y <= self._y[1] - c):
             return False
-        return not (_hits(x, y, self._static, c * c) or _hits(x, y, moving_boxes, c * c))
+        return not (_hits(x, y, self._static, self._clearance_sq) or _hits(x, y, moving_boxes, self._clearance_sq))
 
     def act(self, state: np.ndarray, yaw: float) -> int:
         """The first action of the best plan from ``state`` (the task's state vector) and the
@@ -182,7 +183,7 @@ class StatePlanner:
         tx, ty = float(state[18]), float(state[19])
         moving = np.asarray(state[20:], float).reshape(-1, 2)
         boxes = self.forecast.boxes(moving, self.horizon) if len(moving) else np.zeros((self.horizon + 1, 0, 2, 2))
-        boxes = [[tuple(b) for b in step.reshape(-1, 4).tolist()] for step in boxes]  # (lo_x, lo_y, hi_x, hi_y)
+        boxes = [step.reshape(-1, 4).tolist() for step in boxes]  # per step: [lo_x, lo_y, hi_x, hi_y] per box
 
         def h(x, y, yaw_):
             d = math.hypot(tx - x, ty - y)
