@@ -15,15 +15,17 @@ the config file's name without ``.yaml``. Started again on the same folder, the 
 whose eval.json exists, continues runs that have a checkpoint from it (``Config.resume``), and
 starts the others afresh. A failing run is retried ``--max-retries`` times (each retry continues
 from the last checkpoint), then reported with its error in ``<out>/sweep_summary.json``, which
-is rewritten atomically after every finished run. A run's status there: done, resumed
-(continued from a checkpoint), skipped (finished before), failed (with its error and
-traceback), unfinished (queued or running, or the sweep was stopped).
+is rewritten atomically after every finished run; sweeps sharing a folder (one per core, say)
+merge their runs there. A run's status there: done, resumed (continued from a checkpoint),
+skipped (finished before), failed (with its error and traceback), unfinished (queued or
+running, or the sweep was stopped).
 """
 
 from __future__ import annotations
 
 import argparse
 import dataclasses
+import fcntl
 import json
 import os
 import shutil
@@ -128,16 +130,35 @@ def plan(config_paths: list[str], seeds: list[int], out: Path) -> list[RunSpec]:
     return list(dict.fromkeys(specs))
 
 
-def write_summary(out: Path, records: dict, started: float, args: dict) -> None:
+def _counts(runs: list[dict]) -> dict:
+    return {k: sum(r["status"] == k for r in runs) for k in ("done", "resumed", "skipped", "failed", "unfinished")}
+
+
+def write_summary(out: Path, records: dict, started: float, args: dict) -> dict:
+    """Record this sweep's runs in ``<out>/sweep_summary.json``; return this sweep's own summary.
+
+    Sweeps run side by side on one folder (one per core, say) share the file: under a lock, each
+    merges its runs into those already there, the newest record per (experiment, seed) winning,
+    so the file lists every run any sweep on the folder has recorded."""
     runs = sorted(records.values(), key=lambda r: (r["experiment"], r["seed"]))
-    counts = {k: sum(r["status"] == k for r in runs) for k in ("done", "resumed", "skipped", "failed", "unfinished")}
-    data = dict(sweep=str(out), arguments=args, elapsed_s=round(time.time() - started, 1), counts=counts, runs=runs)
-    atomic_write_bytes(out / SUMMARY, json.dumps(data, indent=1).encode())
+    own = dict(sweep=str(out), arguments=args, elapsed_s=round(time.time() - started, 1), counts=_counts(runs),
+               runs=runs)
+    with open(out / f"{SUMMARY}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)  # released when the file closes
+        try:
+            earlier = json.loads((out / SUMMARY).read_text())["runs"]
+        except (FileNotFoundError, ValueError, KeyError, TypeError):
+            earlier = []
+        merged = {(r["experiment"], r["seed"]): r for r in earlier if isinstance(r, dict) and "experiment" in r}
+        merged.update({(r["experiment"], r["seed"]): r for r in runs})
+        every = sorted(merged.values(), key=lambda r: (r["experiment"], r["seed"]))
+        atomic_write_bytes(out / SUMMARY, json.dumps(dict(own, counts=_counts(every), runs=every), indent=1).encode())
+    return own
 
 
 def run_sweep(config_paths: list[str], seeds: list[int], out: str | Path, address: str | None = None,
               num_cpus: int | None = None, max_retries: int = 1, verbose: bool = True) -> dict:
-    """Run the sweep to its end; return the summary (also in ``<out>/sweep_summary.json``).
+    """Run the sweep to its end; return its summary (its runs are also in ``<out>/sweep_summary.json``).
 
     Ray is started (or joined, ``address``) unless it is already initialised in this process."""
     import ray
@@ -184,9 +205,8 @@ def run_sweep(config_paths: list[str], seeds: list[int], out: str | Path, addres
         say(f"[{time.strftime('%H:%M:%S')}] {spec.experiment} seed {spec.seed}: {result} | "
             f"done {done}/{len(specs)}, failed {failed}, running or queued {len(pending)}", flush=True)
         write_summary(out, records, started, args)
-    summary = json.loads((out / SUMMARY).read_text())
     say(f"summary: {out / SUMMARY}")
-    return summary
+    return write_summary(out, records, started, args)
 
 
 def main(argv: list[str] | None = None) -> None:

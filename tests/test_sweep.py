@@ -112,6 +112,25 @@ def test_a_failing_run_is_reported_with_its_error(tmp_path, local_ray):
     assert summary["counts"]["failed"] == 1
 
 
+def test_two_sweeps_on_one_folder_both_stay_in_its_summary(tmp_path, local_ray):
+    # one sweep per core on one folder, as agents/REPRODUCE.md runs the study
+    out = tmp_path / "out"
+    configs = []
+    for name in (A, B):
+        configs.append(tmp_path / f"{name}.yaml")
+        configs[-1].write_text(TINY.format(gamma=0.2, episodes=2))
+    first = run_sweep([str(configs[0])], [1], out, verbose=False)
+    second = run_sweep([str(configs[1])], [1], out, verbose=False)
+    assert [r["experiment"] for r in first["runs"]] == [A] and [r["experiment"] for r in second["runs"]] == [B]
+    both = json.loads((out / SUMMARY).read_text())
+    assert [(r["experiment"], r["status"]) for r in both["runs"]] == [(A, "done"), (B, "done")]
+    assert both["counts"]["done"] == 2
+    again = run_sweep([str(configs[0])], [1], out, verbose=False)  # a record is replaced, not repeated
+    assert [r["status"] for r in again["runs"]] == ["skipped"]
+    assert [(r["experiment"], r["status"]) for r in json.loads((out / SUMMARY).read_text())["runs"]] == [
+        (A, "skipped"), (B, "done")]
+
+
 def test_a_wrong_config_is_an_error_before_anything_runs(tmp_path):
     wrong = tmp_path / "typo.yaml"
     wrong.write_text("task: DynNav-MovingTarget-v1\nepisodez: 4\n")
