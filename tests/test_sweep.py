@@ -24,6 +24,7 @@ eval_picture: false
 
 # Named like two experiments of the study's Fig. 6.7 so that the report draws that figure.
 A, B = "distance_gamma_0_1_5_2", "distance_gamma_0_3_5_2"
+ROOT = Path(__file__).resolve().parents[1]
 
 
 @pytest.fixture(scope="module")
@@ -82,6 +83,44 @@ def test_sweep_runs_every_experiment_and_the_report_shows_them(sweep, tmp_path):
     alone = write_report([_run_dir(out, A)], tmp_path / "alone" / "RESULTS.md")
     assert not (tmp_path / "alone" / "docs" / "results" / "fig6_7_distance_gamma.png").exists()
     assert "fig6_7_distance_gamma.png" not in alone.read_text()
+
+
+def _committed_copy(out: Path, dest: Path) -> Path:
+    """The sweep folder as git keeps it under results/: the files results/.gitignore does not ignore."""
+    import fnmatch
+    import shutil
+
+    patterns = [line.strip() for line in (ROOT / "results" / ".gitignore").read_text().splitlines()
+                if line.strip() and not line.startswith("#")]
+    dirs = [p.rstrip("/") for p in patterns if p.endswith("/")]
+    files = [p for p in patterns if not p.endswith("/")]
+    for path in out.rglob("*"):
+        rel = path.relative_to(out)
+        if path.is_dir() or any(part in dirs for part in rel.parts[:-1]) \
+                or any(fnmatch.fnmatch(rel.name, f) for f in files):
+            continue
+        (dest / rel).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(path, dest / rel)
+    return dest
+
+
+def _experiment_rows(report: Path) -> list[str]:
+    return [line for line in report.read_text().splitlines() if line.startswith(f"| `{A}`") or line.startswith(f"| `{B}`")]
+
+
+def test_the_committed_record_of_a_sweep_reports_the_same_and_is_not_run_again(sweep, tmp_path):
+    # results/ is committed without checkpoints or pictures: a fresh clone must show the same
+    # table and a sweep started there must skip the finished runs instead of training them again
+    configs, out, _ = sweep
+    kept = _committed_copy(out, tmp_path / "clone")
+    assert not list(kept.rglob("checkpoint")) and not list(kept.rglob("*.png"))
+    assert {p.name for p in _run_dir(kept, A).iterdir()} >= {"config.yaml", "metrics.csv", "eval.json",
+                                                           "sweep_run.json"}
+    original = _experiment_rows(write_report([out], tmp_path / "a" / "RESULTS.md"))
+    assert len(original) == 2 and _experiment_rows(write_report([kept], tmp_path / "b" / "RESULTS.md")) == original
+    again = run_sweep(configs, [1], kept, verbose=False)
+    assert [r["status"] for r in again["runs"]] == ["skipped", "skipped"]
+    assert not list(kept.rglob("checkpoint"))
 
 
 def test_restarted_sweep_skips_finished_runs_and_resumes_the_others(sweep):
