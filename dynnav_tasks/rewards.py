@@ -42,7 +42,9 @@ Readings chosen where the thesis is ambiguous (each is tested in tests/test_rewa
   Eq. 4.8. Both readings are offered: ``potential`` is potential-based shaping as Eq. 4.8 and
   the text describe, F = gamma_p * Phi(s') - Phi(s), with the obstacle term B_p / d2 in Phi
   only when near an obstacle; ``potential_as_written`` is Eq. 4.9 letter for letter (its near
-  branch is the same as ``potential``'s). At gamma_p = 1 the two are the same function.
+  branch is the same as ``potential``'s). At gamma_p = 1 the two differ only on a step that
+  leaves an obstacle's reach: the shaping then pays back the B_p / d2 it charged before the
+  step, Eq. 4.9 as written does not.
 * A_p: the study says only that the potential "can be adjusted according to the learning
   efficiency"; it is ``potential_target`` (default 1.0), set per experiment in its config.
 """

@@ -103,6 +103,10 @@ def test_the_two_potential_readings_agree_at_gamma_1():
     p = RewardParams(potential_gamma=1.0, potential_target=3.0)
     for x in (NEAR, FAR, inputs(d1=1.0, d1_prev=1.2, d2=9, d2_prev=9)):
         assert reward("potential_as_written", x, p) == pytest.approx(reward("potential", x, p), abs=1e-12)
+    # except on the step that leaves an obstacle's reach: the shaping returns B_p / d2(s)
+    leaving = inputs(d2=2.0, d2_prev=0.6)
+    assert reward("potential", leaving, p) == pytest.approx(3.0 / 2.0 - (3.0 / 2.15 - 0.5 / 0.6), abs=1e-12)
+    assert reward("potential_as_written", leaving, p) == pytest.approx(3.0 / 2.0 - 3.0 / 2.15, abs=1e-12)
 
 
 def test_params_change_the_constants():
