@@ -99,7 +99,7 @@ def test_potential_as_written_pays_nothing_for_standing_still():
     assert closer == pytest.approx(0.9 * (1 / 1.9 - 1 / 2.0))
 
 
-def test_the_two_potential_readings_agree_at_gamma_1():
+def test_at_gamma_1_the_two_potential_readings_differ_only_when_leaving_an_obstacle():
     p = RewardParams(potential_gamma=1.0, potential_target=3.0)
     for x in (NEAR, FAR, inputs(d1=1.0, d1_prev=1.2, d2=9, d2_prev=9)):
         assert reward("potential_as_written", x, p) == pytest.approx(reward("potential", x, p), abs=1e-12)
