@@ -94,10 +94,14 @@ def _committed_copy(out: Path, dest: Path) -> Path:
                 if line.strip() and not line.startswith("#")]
     dirs = [p.rstrip("/") for p in patterns if p.endswith("/")]
     files = [p for p in patterns if not p.endswith("/")]
+
+    def ignored(name: str) -> bool:  # as git: the last matching pattern decides, "!" re-includes
+        matches = [f for f in files if fnmatch.fnmatch(name, f.lstrip("!"))]
+        return bool(matches) and not matches[-1].startswith("!")
+
     for path in out.rglob("*"):
         rel = path.relative_to(out)
-        if path.is_dir() or any(part in dirs for part in rel.parts[:-1]) \
-                or any(fnmatch.fnmatch(rel.name, f) for f in files):
+        if path.is_dir() or any(part in dirs for part in rel.parts[:-1]) or ignored(rel.name):
             continue
         (dest / rel).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy2(path, dest / rel)
