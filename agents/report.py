@@ -23,7 +23,8 @@ experiment, over the seeds whose test phase has run:
 The study's numbered cells (a success rate stated as a number, not read off a curve) get a
 table of their own: per cell, the best row among the study's experiment and its named variants,
 the experiments whose names start with its name (``moving_obstacles_5_3_ddqn`` competes for
-``moving_obstacles_5_3``).
+``moving_obstacles_5_3``). Rows whose interval is wider than 20 points are listed with the
+seeds that would narrow it if the seeds' rates kept their spread.
 
 Figures (``--figures``, default docs/results next to the report): reward and Q-loss curves of
 the experiments the study compared, each the 100-episode moving average of the mean over seeds.
@@ -53,6 +54,8 @@ T975 = [12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2
         2.045, 2.042]
 MIN_SEEDS = 5
 """seeds a row needs before it can meet a cell of the study"""
+MAX_WIDTH = 0.20
+"""a row whose 95% interval over seeds is wider than this is listed with the seeds it would need"""
 
 
 def find_runs(paths: list[str | Path]) -> list[Path]:
@@ -107,6 +110,19 @@ def finished(runs: list[dict]) -> list[dict]:
     return [r for r in runs if r["finished"]]
 
 
+def t975(df: int) -> float:
+    return T975[df - 1] if df <= len(T975) else 1.96
+
+
+def seeds_for_width(sd: float, width: float = MAX_WIDTH, limit: int = 200) -> int | None:
+    """The fewest seeds whose t-interval (2 t(0.975, n-1) sd / sqrt(n)) is at most ``width`` if the
+    seeds' rates keep the spread ``sd``; None if more than ``limit``."""
+    for n in range(2, limit + 1):
+        if 2 * t975(n - 1) * sd / math.sqrt(n) <= width + 1e-12:
+            return n
+    return None
+
+
 def summarize(runs: list[dict]) -> dict:
     done = finished(runs)
     out = dict(seeds=len(done), unfinished=[r for r in runs if not r["finished"]])
@@ -115,7 +131,7 @@ def summarize(runs: list[dict]) -> dict:
     rates = np.array([r["success"] for r in done])
     mean = float(rates.mean())
     if len(done) >= 2:
-        half = T975[min(len(done) - 1, len(T975)) - 1] * rates.std(ddof=1) / math.sqrt(len(done))
+        half = t975(len(done) - 1) * rates.std(ddof=1) / math.sqrt(len(done))
         lo, hi, how = max(0.0, mean - half), min(1.0, mean + half), "t"
     else:
         lo, hi = wilson_interval(round(done[0]["success"] * done[0]["n"]), done[0]["n"])
@@ -124,6 +140,7 @@ def summarize(runs: list[dict]) -> dict:
     conv = [r["converge"] for r in done]
     walls = [r["wall"] for r in done if r["wall"] is not None]
     out.update(success=mean, ci=(lo, hi), ci_kind=how, per_seed=rates.tolist(),
+               sd=float(rates.std(ddof=1)) if len(done) >= 2 else None,
                steps=float(np.mean(steps)) if steps else None,
                converge=(float(np.mean(conv)) if all(c is not None for c in conv) else None),
                never=sum(c is None for c in conv), wall=float(np.mean(walls)) if walls else None,
@@ -237,6 +254,24 @@ def cells_table(summaries: dict[str, dict], tasks: dict[str, str], ceilings: dic
     return lines
 
 
+def wide_intervals(summaries: dict[str, dict]) -> list[str]:
+    """The rows whose 95% interval over seeds is wider than MAX_WIDTH, with the seeds that would narrow it."""
+    wide = [(e, s) for e, s in summaries.items() if s.get("sd") is not None and s["ci"][1] - s["ci"][0] > MAX_WIDTH]
+    if not wide:
+        return []
+    lines = ["", f"## Intervals wider than {MAX_WIDTH * 100:.0f} points", "",
+             f"Rows whose 95% interval over seeds is wider than {MAX_WIDTH * 100:.0f} points, and how many seeds "
+             "would narrow it below that if the seeds' rates kept their spread (`python -m agents.sweep CONFIG "
+             "--seeds N` adds the missing ones):", ""]
+    for e, s in wide:
+        lo, hi = s["ci"]
+        need = seeds_for_width(s["sd"])
+        need = f"about {max(need, MIN_SEEDS)}" if need is not None else "more than 200"
+        lines.append(f"* `{e}`: {s['seeds']} seeds, {lo:.0%}-{hi:.0%} (standard deviation {s['sd'] * 100:.0f} "
+                     f"points over seeds): {need} seeds")
+    return lines
+
+
 def render(groups: dict[str, list[dict]], figures: list[tuple[str, str]], sources: list[str],
            discussion: str = "", ceilings: dict[str, float] | None = None) -> str:
     ceilings = ceilings or {}
@@ -284,6 +319,7 @@ def render(groups: dict[str, list[dict]], figures: list[tuple[str, str]], source
     if missing:
         lines += ["", "Experiments of the study with a config but no run in these folders yet: "
                   + ", ".join(f"`{e}`" for e in missing) + "."]
+    lines += wide_intervals(summaries)
     if unfinished:
         lines += ["", "## Runs still in progress", "", "Left out of the table above; `python -m agents.sweep` "
                   "with the same arguments continues them from their checkpoints.", ""]

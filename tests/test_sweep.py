@@ -226,6 +226,23 @@ def test_report_picks_each_numbered_cells_best_row_and_shows_the_ceiling(tmp_pat
     assert "| 81% (" in full and "| 99.5% |" in full
 
 
+def test_report_lists_wide_intervals_with_the_seeds_that_would_narrow_them():
+    from agents.report import render, seeds_for_width
+
+    task = "DynNav-MovingObstacles-v1"
+    # rates 50-90%: sd 15.8 points, interval 2 * 2.776 * 0.158 / sqrt(5) = 39 points wide; at that
+    # spread 12 seeds give 2 * 2.201 * 0.158 / sqrt(12) = 20.1 points and 13 give 19.1
+    assert seeds_for_width(np.std([0.5, 0.6, 0.7, 0.8, 0.9], ddof=1)) == 13
+    assert seeds_for_width(0.0) == 2 and seeds_for_width(0.8) is None  # 0.8: about 246 seeds
+    groups = {"moving_obstacles_5_3": [_done(task, r) for r in (0.5, 0.6, 0.7, 0.8, 0.9)],
+              "moving_obstacles_5_3_tight": [_done(task, r) for r in (0.70, 0.72, 0.71, 0.69, 0.73)]}
+    text = render(groups, [], ["sweeps/x"])
+    section = text.split("## Intervals wider than 20 points")[1]
+    assert "* `moving_obstacles_5_3`: 5 seeds, 50%-90% (standard deviation 16 points over seeds): about 13 seeds" \
+        in section
+    assert "tight" not in section
+
+
 def test_report_refuses_a_ceilings_file_it_cannot_read(tmp_path, sweep):
     _, out, _ = sweep
     bad = tmp_path / "ceilings.json"
