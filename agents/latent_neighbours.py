@@ -87,10 +87,7 @@ def main(argv: list[str] | None = None) -> None:
     if args.k < 1:
         parser.error("--k must be at least 1")
     try:
-        runs = [(label(d), load_run(d)) for d in args.runs]
-    except (FileNotFoundError, ValueError) as e:
-        raise SystemExit(f"error: {e}")
-    try:
+        runs = [(label(d), load_run(d)) for d in args.runs]  # every run read before any is measured
         rows = [(name, neighbour_shares(*run, k=args.k)) for name, run in runs]
     except (FileNotFoundError, ValueError) as e:
         raise SystemExit(f"error: {e}")
