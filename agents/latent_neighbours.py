@@ -90,7 +90,7 @@ def main(argv: list[str] | None = None) -> None:
         runs = [(label(d), load_run(d)) for d in args.runs]  # every run read before any is measured
         rows = [(name, neighbour_shares(*run, k=args.k)) for name, run in runs]
     except (FileNotFoundError, ValueError) as e:
-        raise SystemExit(f"error: {e}")
+        raise SystemExit(f"agents.latent_neighbours: {e}") from None
     print(render(rows, args.k))
 
 
