@@ -24,7 +24,8 @@ The study's numbered cells (a success rate stated as a number, not read off a cu
 table of their own: per cell, the best row among the study's experiment and its named variants,
 the experiments whose names start with its name (``moving_obstacles_5_3_ddqn`` competes for
 ``moving_obstacles_5_3``). Rows whose interval is wider than 20 points are listed with the
-seeds that would narrow it if the seeds' rates kept their spread.
+seeds that would narrow it if the seeds' rates kept their spread; with ``--configs``, the
+configs with fewer than 5 finished seeds are listed too (``--configs`` takes files and folders).
 
 Figures (``--figures``, default docs/results next to the report): reward and Q-loss curves of
 the experiments the study compared, each the 100-episode moving average of the mean over seeds.
@@ -272,8 +273,33 @@ def wide_intervals(summaries: dict[str, dict]) -> list[str]:
     return lines
 
 
+def short_of_seeds(summaries: dict[str, dict], configs: dict[str, str]) -> list[str]:
+    """The configs (experiment -> path) with fewer than MIN_SEEDS finished seeds in the reported folders."""
+    short = [(e, p, summaries[e]["seeds"] if e in summaries else 0) for e, p in sorted(configs.items(), key=lambda x: x[1])]
+    short = [(e, p, n) for e, p, n in short if n < MIN_SEEDS]
+    if not short:
+        return []
+    lines = ["", f"## Configs with fewer than {MIN_SEEDS} seeds", "",
+             f"Configs with fewer than {MIN_SEEDS} finished seeds in these folders (`python -m agents.sweep CONFIG "
+             f"--seeds {MIN_SEEDS}` runs the missing ones and continues those in progress):", ""]
+    return lines + [f"* `{p}`: {n} finished" for e, p, n in short]
+
+
+def find_configs(paths: list[str | Path]) -> dict[str, str]:
+    """experiment name (the file's stem, as agents.sweep names it) -> path, for each config file given
+    and every YAML under each folder given."""
+    found = {}
+    for path in map(Path, paths):
+        if not path.exists():
+            raise ValueError(f"config path {str(path)!r} does not exist")
+        for p in sorted(path.rglob("*.yaml")) if path.is_dir() else [path]:
+            found[p.stem] = p.as_posix()
+    return found
+
+
 def render(groups: dict[str, list[dict]], figures: list[tuple[str, str]], sources: list[str],
-           discussion: str = "", ceilings: dict[str, float] | None = None) -> str:
+           discussion: str = "", ceilings: dict[str, float] | None = None,
+           configs: dict[str, str] | None = None) -> str:
     ceilings = ceilings or {}
     order = [e for e in THESIS if e in groups] + sorted(e for e in groups if e not in THESIS)
     summaries = {e: summarize(groups[e]) for e in order}
@@ -320,6 +346,7 @@ def render(groups: dict[str, list[dict]], figures: list[tuple[str, str]], source
         lines += ["", "Experiments of the study with a config but no run in these folders yet: "
                   + ", ".join(f"`{e}`" for e in missing) + "."]
     lines += wide_intervals(summaries)
+    lines += short_of_seeds(summaries, configs or {})
     if unfinished:
         lines += ["", "## Runs still in progress", "", "Left out of the table above; `python -m agents.sweep` "
                   "with the same arguments continues them from their checkpoints.", ""]
@@ -334,10 +361,14 @@ def render(groups: dict[str, list[dict]], figures: list[tuple[str, str]], source
 
 
 def write_report(paths: list[str | Path], out: str | Path = "RESULTS.md", figures_dir: str | Path | None = None,
-                 discussion: str | Path | None = None, ceilings: str | Path | None = None) -> Path:
+                 discussion: str | Path | None = None, ceilings: str | Path | None = None,
+                 configs: list[str | Path] | None = None) -> Path:
     """Write the report; ``discussion``: a Markdown file inserted after the table (written by hand);
-    ``ceilings``: the planner's JSON (default docs/results/ceilings.json next to ``out``, if there)."""
+    ``ceilings``: the planner's JSON (default docs/results/ceilings.json next to ``out``, if there);
+    ``configs``: config files or folders of them, each config listed if it has fewer than MIN_SEEDS
+    finished seeds."""
     out = Path(out)
+    config_paths = find_configs(configs) if configs is not None else {}
     if ceilings is not None and not Path(ceilings).is_file():
         raise ValueError(f"ceilings file {str(ceilings)!r} does not exist")
     ceiling_rates = load_ceilings(ceilings if ceilings is not None else out.parent / "docs" / "results" / "ceilings.json")
@@ -361,7 +392,8 @@ def write_report(paths: list[str | Path], out: str | Path = "RESULTS.md", figure
             path = figures_dir / f"{stem}.png"
             draw_figure(path, title, present)
             written.append((os.path.relpath(path.resolve(), out.parent.resolve()), title))
-    atomic_write_bytes(out, render(groups, written, [str(p) for p in paths], text, ceiling_rates).encode())
+    atomic_write_bytes(out, render(groups, written, [str(p) for p in paths], text, ceiling_rates,
+                                   config_paths).encode())
     return out
 
 
@@ -375,9 +407,12 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--ceilings", default=None,
                         help="the planner's success rates per task (python -m dynnav_tasks.state_planner --out FILE); "
                              "default docs/results/ceilings.json next to --out, if it exists")
+    parser.add_argument("--configs", nargs="+", default=None, metavar="CONFIG",
+                        help="config files or folders of them (searched recursively): list the configs with fewer "
+                             "than 5 finished seeds")
     args = parser.parse_args(argv)
     try:
-        out = write_report(args.paths, args.out, args.figures, args.discussion, args.ceilings)
+        out = write_report(args.paths, args.out, args.figures, args.discussion, args.ceilings, args.configs)
     except ValueError as err:
         raise SystemExit(f"error: {err}")
     print(f"wrote {out}")

@@ -250,3 +250,23 @@ def test_report_refuses_a_ceilings_file_it_cannot_read(tmp_path, sweep):
     with pytest.raises(ValueError, match="not what dynnav_tasks.state_planner --out writes"):
         write_report([out], tmp_path / "R.md", ceilings=bad)
     assert not (tmp_path / "R.md").exists() and not (tmp_path / "docs").exists()  # nothing written
+
+
+def test_report_lists_the_configs_short_of_five_seeds(tmp_path):
+    from agents.report import find_configs, render
+
+    (tmp_path / "beyond").mkdir()
+    for name in ("moving_obstacles_5_3.yaml", "beyond/moving_obstacles_5_3_ddqn.yaml", "camera_5_5a.yaml"):
+        (tmp_path / name).write_text("task: DynNav-MovingObstacles-v1\n")
+    configs = find_configs([tmp_path])
+    assert configs["moving_obstacles_5_3_ddqn"] == (tmp_path / "beyond/moving_obstacles_5_3_ddqn.yaml").as_posix()
+    task = "DynNav-MovingObstacles-v1"
+    groups = {"moving_obstacles_5_3": [_done(task, 0.8)] * 5, "moving_obstacles_5_3_ddqn": [_done(task, 0.9)] * 3}
+    section = render(groups, [], ["sweeps/x"], configs=configs).split("## Configs with fewer than 5 seeds")[1]
+    assert f"* `{configs['moving_obstacles_5_3_ddqn']}`: 3 finished" in section
+    assert f"* `{configs['camera_5_5a']}`: 0 finished" in section
+    assert "moving_obstacles_5_3.yaml" not in section
+    assert find_configs([tmp_path / "camera_5_5a.yaml", tmp_path / "beyond"]) == {
+        k: v for k, v in configs.items() if k != "moving_obstacles_5_3"}
+    with pytest.raises(ValueError, match="config path .*nowhere.* does not exist"):
+        find_configs([tmp_path / "nowhere"])
