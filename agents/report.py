@@ -275,14 +275,14 @@ def wide_intervals(summaries: dict[str, dict]) -> list[str]:
 
 def short_of_seeds(summaries: dict[str, dict], configs: dict[str, str]) -> list[str]:
     """The configs (experiment -> path) with fewer than MIN_SEEDS finished seeds in the reported folders."""
-    short = [(e, p, summaries[e]["seeds"] if e in summaries else 0) for e, p in sorted(configs.items(), key=lambda x: x[1])]
-    short = [(e, p, n) for e, p, n in short if n < MIN_SEEDS]
+    seeds = {e: summaries[e]["seeds"] if e in summaries else 0 for e in configs}
+    short = sorted((p, seeds[e]) for e, p in configs.items() if seeds[e] < MIN_SEEDS)
     if not short:
         return []
     lines = ["", f"## Configs with fewer than {MIN_SEEDS} seeds", "",
              f"Configs with fewer than {MIN_SEEDS} finished seeds in these folders (`python -m agents.sweep CONFIG "
              f"--seeds {MIN_SEEDS}` runs the missing ones and continues those in progress):", ""]
-    return lines + [f"* `{p}`: {n} finished" for e, p, n in short]
+    return lines + [f"* `{p}`: {n} finished" for p, n in short]
 
 
 def find_configs(paths: list[str | Path]) -> dict[str, str]:
