@@ -198,7 +198,8 @@ def _done(task: str, success: float) -> dict:
 
 
 def test_report_picks_each_numbered_cells_best_row_and_shows_the_ceiling(tmp_path):
-    from agents.report import cell_of, render, study_rate
+    from agents.report import render
+    from agents.report_cells import cell_of, study_rate
     from agents.thesis_results import THESIS
 
     assert sum(study_rate(e) is not None for e in THESIS) == 14  # the study's numbered cells
@@ -227,7 +228,8 @@ def test_report_picks_each_numbered_cells_best_row_and_shows_the_ceiling(tmp_pat
 
 
 def test_report_lists_wide_intervals_with_the_seeds_that_would_narrow_them():
-    from agents.report import render, seeds_for_width
+    from agents.report import render
+    from agents.report_cells import seeds_for_width
 
     task = "DynNav-MovingObstacles-v1"
     # rates 50-90%: sd 15.8 points, interval 2 * 2.776 * 0.158 / sqrt(5) = 39 points wide; at that
@@ -253,7 +255,8 @@ def test_report_refuses_a_ceilings_file_it_cannot_read(tmp_path, sweep):
 
 
 def test_report_lists_the_configs_short_of_five_seeds(tmp_path):
-    from agents.report import find_configs, render
+    from agents.report import render
+    from agents.report_cells import find_configs
 
     (tmp_path / "beyond").mkdir()
     for name in ("moving_obstacles_5_3.yaml", "beyond/moving_obstacles_5_3_ddqn.yaml", "camera_5_5a.yaml"):
