@@ -6,7 +6,9 @@ whose obstacles run on a route (5.3), the obstacles' speed.
 Reads each run's ``eval.json`` (the test phase's episodes and their seeds), resets the run's
 task with every episode's seed to read what that episode drew (no policy is run: a reset with
 the same seed draws the same world), and prints success / collision / timeout rates per group
-over all the given runs together.
+over all the given runs together. A timeout *standing still* is one whose robot ended within
+1 cm of where it stood STILL_STEPS steps before the end: turning in place, since a forward
+step moves it 0.15 m (read from the episode's trajectory in eval.json).
 """
 
 from __future__ import annotations
@@ -17,6 +19,18 @@ from collections import Counter, defaultdict
 from pathlib import Path
 
 OUTCOMES = ("success", "collision", "timeout")
+STILL = "timeout standing still"
+STILL_STEPS = 20
+STILL_TOLERANCE = 0.01  # m
+
+
+def standing_still(trajectory: list | None, steps: int = STILL_STEPS, tolerance: float = STILL_TOLERANCE) -> bool:
+    """Whether the robot's last ``steps`` positions all lie within ``tolerance`` m of its last one
+    (False for a trajectory shorter than that, or none)."""
+    if not trajectory or len(trajectory) <= steps:
+        return False
+    x, y = trajectory[-1]
+    return all((px - x) ** 2 + (py - y) ** 2 <= tolerance ** 2 for px, py in trajectory[-1 - steps:])
 
 
 def route_speed(env) -> float | None:
@@ -33,7 +47,8 @@ def speed_bin(speed: float | None, width: float) -> float | None:
 
 
 def breakdown(run_dirs: list[str | Path], width: float = 0.1) -> dict[tuple, Counter]:
-    """(speed bin's lower edge or None, target start) -> Counter of outcomes, over the runs' test episodes."""
+    """(speed bin's lower edge or None, target start) -> Counter of outcomes over the runs' test episodes,
+    and under STILL the timeouts that ended standing still (also counted as timeouts)."""
     import gymnasium as gym
 
     import dynnav_tasks  # noqa: F401  (registers the tasks)
@@ -55,19 +70,23 @@ def breakdown(run_dirs: list[str | Path], width: float = 0.1) -> dict[tuple, Cou
             for ep in e["episodes"]:
                 env.reset(seed=ep["seed"])
                 low = speed_bin(route_speed(env), width)
-                groups[(low, tuple(ep["target_start"]))][ep["outcome"]] += 1
+                counts = groups[(low, tuple(ep["target_start"]))]
+                counts[ep["outcome"]] += 1
+                if ep["outcome"] == "timeout" and standing_still(ep.get("trajectory")):
+                    counts[STILL] += 1
     finally:
         env.close()
     return dict(groups)
 
 
 def render(groups: dict[tuple, Counter], width: float) -> str:
-    lines = ["| obstacle speed (m/step) | target | episodes | success | collision | timeout |", "|---|---|---|---|---|---|"]
+    lines = ["| obstacle speed (m/step) | target | episodes | success | collision | timeout | timeout standing still |",
+             "|---|---|---|---|---|---|---|"]
     for (low, target) in sorted(groups, key=lambda k: (k[0] if k[0] is not None else -1, k[1])):
         c = groups[(low, target)]
-        n = sum(c.values())
+        n = sum(v for k, v in c.items() if k != STILL)
         speed = "-" if low is None else f"{low:.2f}-{low + width:.2f}"
-        rates = " | ".join(f"{c[o] / n:.0%}" for o in OUTCOMES)
+        rates = " | ".join(f"{c[o] / n:.0%}" for o in (*OUTCOMES, STILL))
         lines.append(f"| {speed} | ({target[0]:g}, {target[1]:g}) | {n} | {rates} |")
     return "\n".join(lines)
 
