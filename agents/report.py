@@ -46,8 +46,8 @@ import yaml
 from .checkpoint import atomic_write_bytes
 from .stats import wilson_interval
 from .plots import moving_average, read_metrics
-from .report_cells import (_ceiling, cells_table, find_configs, load_ceilings, short_of_seeds, study_rate, t975,
-                           wide_intervals)
+from .report_cells import (cells_table, find_configs, format_ceiling, load_ceilings, short_of_seeds, study_rate,
+                           t975, wide_intervals)
 from .thesis_results import ALIASES, FIGURES, THESIS
 
 WINDOW = 100
@@ -103,7 +103,6 @@ def load_run(run_dir: Path) -> dict:
 def finished(runs: list[dict]) -> list[dict]:
     """The runs that have their test (eval.json): the only ones the tables and figures show."""
     return [r for r in runs if r["finished"]]
-
 
 
 def summarize(runs: list[dict]) -> dict:
@@ -203,7 +202,7 @@ def render(groups: dict[str, list[dict]], figures: list[tuple[str, str]], source
         t = THESIS.get(e, dict(success="not in the study", converge="-"))
         unfinished += s["unfinished"]
         task = tasks[e]
-        ceiling = _ceiling(ceilings.get(task))
+        ceiling = format_ceiling(ceilings.get(task))
         if not s["seeds"]:
             lines.append(f"| `{e}` | {task} | 0 | not finished | {t.get('success', '-')} | {ceiling} | | | "
                          f"{t.get('converge', '-')} | | |")

@@ -25,7 +25,6 @@ MAX_WIDTH = 0.20
 """a row whose 95% interval over seeds is wider than this is listed with the seeds it would need"""
 
 
-
 def t975(df: int) -> float:
     return T975[df - 1] if df <= len(T975) else 1.96
 
@@ -39,7 +38,7 @@ def seeds_for_width(sd: float, width: float = MAX_WIDTH, limit: int = 200) -> in
     return None
 
 
-def _ceiling(x) -> str:
+def format_ceiling(x) -> str:
     """A ceiling to a tenth of a point: 99.5% is not 100%."""
     return "-" if x is None else f"{x * 100:.1f}".removesuffix(".0") + "%"
 
@@ -96,7 +95,7 @@ def cells_table(summaries: dict[str, dict], tasks: dict[str, str], ceilings: dic
         ceiling = ceilings.get(tasks[best])
         met = "no" if s["success"] < target - 1e-9 else "yes" if s["seeds"] >= MIN_SEEDS else f"needs {MIN_SEEDS} seeds"
         lines.append(f"| `{cell}` | {target:.0%} | `{best}` | {s['seeds']} | {s['success']:.0%} ({lo:.0%}-{hi:.0%}) | "
-                     f"{_ceiling(ceiling)} | {met} |")
+                     f"{format_ceiling(ceiling)} | {met} |")
     return lines
 
 
