@@ -15,12 +15,13 @@ centre's bearing lies within half the camera's field of view (``CameraSpec.fov``
 from __future__ import annotations
 
 import argparse
-import json
 import math
 from collections import Counter
 from pathlib import Path
 
 import numpy as np
+
+from agents.outcomes import load_evals
 
 MIN_MOVE = 0.05  # m
 TURN_IN_PLACE = 1  # the robot's "left" action (dynnav_tasks/robot.py)
@@ -62,17 +63,8 @@ def collision_views(run_dirs: list[str | Path], before: int = 5) -> list[dict]:
 
     import dynnav_tasks  # noqa: F401  (registers the tasks)
 
-    evals = []
-    for d in run_dirs:
-        path = Path(d) / "eval.json"
-        if not path.is_file():
-            raise FileNotFoundError(f"{path} not found: give run directories whose test phase has run "
-                                    "(python -m agents.dqn --eval --checkpoint RUN writes it)")
-        evals.append((Path(d), json.loads(path.read_text())))
-    tasks = {e["task"] for _, e in evals}
-    if len(tasks) != 1:
-        raise ValueError(f"the runs test different tasks ({', '.join(sorted(tasks))}): give runs of one task")
-    env = gym.make(tasks.pop())
+    task, evals = load_evals(run_dirs)
+    env = gym.make(task)
     records = []
     try:
         for run, e in evals:

@@ -46,6 +46,22 @@ def speed_bin(speed: float | None, width: float) -> float | None:
     return None if speed is None else round(int(speed / width) * width, 6)
 
 
+def load_evals(run_dirs: list[str | Path]) -> tuple[str, list[tuple[Path, dict]]]:
+    """The one task the runs test and each run's (directory, eval.json contents); a run without a test
+    phase or runs of different tasks are refused."""
+    evals = []
+    for d in run_dirs:
+        path = Path(d) / "eval.json"
+        if not path.is_file():
+            raise FileNotFoundError(f"{path} not found: give run directories whose test phase has run "
+                                    "(python -m agents.dqn --eval --checkpoint RUN writes it)")
+        evals.append((Path(d), json.loads(path.read_text())))
+    tasks = {e["task"] for _, e in evals}
+    if len(tasks) != 1:
+        raise ValueError(f"the runs test different tasks ({', '.join(sorted(tasks))}): give runs of one task")
+    return tasks.pop(), evals
+
+
 def breakdown(run_dirs: list[str | Path], width: float = 0.1) -> dict[tuple, Counter]:
     """(speed bin's lower edge or None, target start) -> Counter of outcomes over the runs' test episodes,
     and under STILL the timeouts that ended standing still (also counted as timeouts)."""
@@ -53,20 +69,11 @@ def breakdown(run_dirs: list[str | Path], width: float = 0.1) -> dict[tuple, Cou
 
     import dynnav_tasks  # noqa: F401  (registers the tasks)
 
-    evals = []
-    for d in run_dirs:
-        path = Path(d) / "eval.json"
-        if not path.is_file():
-            raise FileNotFoundError(f"{path} not found: give run directories whose test phase has run "
-                                    "(python -m agents.dqn --eval --checkpoint RUN writes it)")
-        evals.append(json.loads(path.read_text()))
-    tasks = {e["task"] for e in evals}
-    if len(tasks) != 1:
-        raise ValueError(f"the runs test different tasks ({', '.join(sorted(tasks))}): give runs of one task")
-    env = gym.make(tasks.pop())
+    task, evals = load_evals(run_dirs)
+    env = gym.make(task)
     groups: dict[tuple, Counter] = defaultdict(Counter)
     try:
-        for e in evals:
+        for _, e in evals:
             for ep in e["episodes"]:
                 env.reset(seed=ep["seed"])
                 low = speed_bin(route_speed(env), width)
