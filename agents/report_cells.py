@@ -94,7 +94,7 @@ def cells_table(summaries: dict[str, dict], tasks: dict[str, str], ceilings: dic
         lo, hi = s["ci"]
         ceiling = ceilings.get(tasks[best])
         met = "no" if s["success"] < target - 1e-9 else "yes" if s["seeds"] >= MIN_SEEDS else f"needs {MIN_SEEDS} seeds"
-        lines.append(f"| `{cell}` | {target:.0%} | `{best}` | {s['seeds']} | {s['success']:.0%} ({lo:.0%}-{hi:.0%}) | "
+        lines.append(f"| `{cell}` | {target:.0%} | `{best}` | {s['seeds']} | {s['success']:.1%} ({lo:.0%}-{hi:.0%}) | "
                      f"{format_ceiling(ceiling)} | {met} |")
     return lines
 
