@@ -249,6 +249,18 @@ def test_report_lists_wide_intervals_with_the_seeds_that_would_narrow_them():
     assert "tight" not in section
 
 
+def test_report_lists_each_rows_seeds_in_seed_order():
+    from agents.report import render
+
+    task = "DynNav-MovingObstacles-v1"
+    # found in folder-name order (seed1, seed10, seed2, ...): the per-seed column still reads seed 1, 2, ..., 10
+    runs = [dict(_done(task, 0.5 + s / 100), seed=s) for s in sorted(range(1, 11), key=str)]
+    text = render({"moving_obstacles_5_3": runs}, [], ["sweeps/x"])
+    row = next(line for line in text.split("## Every experiment")[1].splitlines()
+               if line.startswith("| `moving_obstacles_5_3` |"))
+    assert row.endswith("| 51% 52% 53% 54% 55% 56% 57% 58% 59% 60% |")
+
+
 def test_report_refuses_a_ceilings_file_it_cannot_read(tmp_path, sweep):
     _, out, _ = sweep
     bad = tmp_path / "ceilings.json"
