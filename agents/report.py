@@ -107,7 +107,7 @@ def finished(runs: list[dict]) -> list[dict]:
 
 def summarize(runs: list[dict]) -> dict:
     # per seed in seed order (2 before 10), whatever order the folders were found in
-    done = sorted(finished(runs), key=lambda r: (r["seed"] is None, r["seed"] if r["seed"] is not None else 0))
+    done = sorted(finished(runs), key=lambda r: (r["seed"] is None, r["seed"] or 0))
     out = dict(seeds=len(done), unfinished=[r for r in runs if not r["finished"]])
     if not done:
         return out
