@@ -50,7 +50,7 @@ from .scene import HIDDEN_Z, add_lighting, build_world
 from .sensing import Sensing
 from .snapshot import StepSnapshot
 from .top_down import TopDownView
-from .vulkan import explain, is_vulkan_error
+from .vulkan import explain, is_vulkan_error, keep_render_pipelines
 from .world import World
 
 
@@ -129,6 +129,7 @@ class NavEnv(Observations, TopDownView, BaseEnv):
     def _setup_scene(self):
         try:
             super()._setup_scene()
+            keep_render_pipelines(self._render_device)
         except RuntimeError as err:
             if is_vulkan_error(err):
                 raise explain(err) from err

@@ -22,6 +22,23 @@ renderer (lavapipe) from bookworm-backports, as root:
 (`make test` and `make demo` do this themselves when run as root.)"""
 
 
+_PIPELINE_KEEPERS: dict[str, object] = {}
+
+
+def keep_render_pipelines(device) -> None:
+    """Keep SAPIEN's compiled render pipelines for the rest of the process.
+
+    SAPIEN frees its render context, and with it every compiled pipeline, when the last
+    ``RenderSystem`` of the process is gone; lavapipe then spends about 20 s compiling them
+    again for the next camera task (an evaluation after training, the next test in a suite).
+    One empty ``RenderSystem`` on ``device``, kept here, keeps them."""
+    import sapien
+
+    key = str(device)
+    if key not in _PIPELINE_KEEPERS:
+        _PIPELINE_KEEPERS[key] = sapien.render.RenderSystem(device)
+
+
 class VulkanUnavailableError(RuntimeError):
     """Raised when no Vulkan device can be created; the message says how to install one."""
 

@@ -125,11 +125,11 @@ def test_rare_colour_weights_make_a_small_red_square_reconstructed():
     def red_recall(power):
         torch.manual_seed(0)
         ae = ConvAutoEncoder(SINGLE_RGB)
-        trainer = AutoEncoderTrainer(ae, lr=1e-3)
+        trainer = AutoEncoderTrainer(ae, lr=3e-3)
         weights = RareColourWeights(power).fit(frames) if power else None
         batch_rng = np.random.default_rng(1)
-        for _ in range(500):
-            trainer.train_batch(frames[batch_rng.integers(0, len(frames), 64)], weights)
+        for _ in range(350):
+            trainer.train_batch(frames[batch_rng.integers(0, len(frames), 32)], weights)
         rec = ae.reconstruct(frames)
         return ((rec[..., 0] > 150) & (rec[..., 1] < 120) & red).sum() / red.sum()
 
