@@ -8,7 +8,7 @@ from agents.evaluate import evaluate
 
 def test_learns_moving_targets_world(tmp_path):
     """World 5.2 (three moving targets, static obstacles) in 400 episodes, with updates of 64
-    transitions at every other step (about 60 s).
+    transitions at every other step (1-2 minutes on one core).
 
     Made easier than the thesis set-up in two ways: turns also move the robot 5 cm forward
     (a robot turning in place can dither left-right forever under a greedy policy, since the
@@ -19,7 +19,8 @@ def test_learns_moving_targets_world(tmp_path):
         reward_params={"collision_reward": -50.0}, task_kwargs={"turn_forward_step": 0.05},
         algorithm="ddqn", episodes=400, learning_rate=0.001, lr_schedule="linear", learning_rate_end=0.0001,
         lr_decay_episodes=400, epsilon_decay_episodes=200, batch_size=64, train_frequency=2,
-        target_update_interval=100, checkpoint_every=400, runs_dir=str(tmp_path), progress=False, eval_after_training=False, seed=1,
+        target_update_interval=100, checkpoint_every=400, runs_dir=str(tmp_path), progress=False,
+        eval_after_training=False, seed=1,
     ).validate()
     run = train(config)
     summary = evaluate(run, episodes=100, picture=False, verbose=False)
@@ -28,7 +29,7 @@ def test_learns_moving_targets_world(tmp_path):
 
 
 def test_learns_cartpole(tmp_path):
-    """200 episodes with a small network (64, 64) updated every 4th step: about 20 s."""
+    """200 episodes with a small network (64, 64) updated every 4th step: a few seconds."""
     config = make(
         task="CartPole-v1", algorithm="ddqn", episodes=200, gamma=0.99, learning_rate=0.001, epsilon_start=1.0,
         epsilon_decay_episodes=100, hidden_sizes=(64, 64), batch_size=64, train_frequency=4,
