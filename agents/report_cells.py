@@ -29,11 +29,17 @@ def t975(df: int) -> float:
     return T975[df - 1] if df <= len(T975) else 1.96
 
 
+def interval_width(seeds: int, sd: float) -> float:
+    """The full width of the t-interval over ``seeds`` rates with spread ``sd``, before the interval
+    is clipped to 0-100% for display (a row at 7% with a 23-point interval shows as 0-18%)."""
+    return 2 * t975(seeds - 1) * sd / math.sqrt(seeds)
+
+
 def seeds_for_width(sd: float, width: float = MAX_WIDTH, limit: int = 200) -> int | None:
     """The fewest seeds whose t-interval (2 t(0.975, n-1) sd / sqrt(n)) is at most ``width`` if the
     seeds' rates keep the spread ``sd``; None if more than ``limit``."""
     for n in range(2, limit + 1):
-        if 2 * t975(n - 1) * sd / math.sqrt(n) <= width + 1e-12:
+        if interval_width(n, sd) <= width + 1e-12:
             return n
     return None
 
@@ -101,18 +107,22 @@ def cells_table(summaries: dict[str, dict], tasks: dict[str, str], ceilings: dic
 
 def wide_intervals(summaries: dict[str, dict]) -> list[str]:
     """The rows whose 95% interval over seeds is wider than MAX_WIDTH, with the seeds that would narrow it."""
-    wide = [(e, s) for e, s in summaries.items() if s.get("sd") is not None and s["ci"][1] - s["ci"][0] > MAX_WIDTH]
+    wide = [(e, s) for e, s in summaries.items()
+            if s.get("sd") is not None and interval_width(s["seeds"], s["sd"]) > MAX_WIDTH]
     if not wide:
         return []
     lines = ["", f"## Intervals wider than {MAX_WIDTH * 100:.0f} points", "",
-             f"Rows whose 95% interval over seeds is wider than {MAX_WIDTH * 100:.0f} points, and how many seeds "
+             f"Rows whose 95% interval over seeds is wider than {MAX_WIDTH * 100:.0f} points (its full width, "
+             "before it is clipped to 0-100%), and how many seeds "
              "would narrow it below that if the seeds' rates kept their spread (`python -m agents.sweep CONFIG "
              "--seeds N` adds the missing ones):", ""]
     for e, s in wide:
         lo, hi = s["ci"]
         need = seeds_for_width(s["sd"])
         need = f"about {max(need, MIN_SEEDS)}" if need is not None else "more than 200"
-        lines.append(f"* `{e}`: {s['seeds']} seeds, {lo:.0%}-{hi:.0%} (standard deviation {s['sd'] * 100:.0f} "
+        width = interval_width(s["seeds"], s["sd"])
+        lines.append(f"* `{e}`: {s['seeds']} seeds, {lo:.0%}-{hi:.0%}, {width * 100:.0f} points wide "
+                     f"(standard deviation {s['sd'] * 100:.0f} "
                      f"points over seeds): {need} seeds")
     return lines
 

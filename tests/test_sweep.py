@@ -241,10 +241,14 @@ def test_report_lists_wide_intervals_with_the_seeds_that_would_narrow_them():
     assert seeds_for_width(np.std([0.5, 0.6, 0.7, 0.8, 0.9], ddof=1)) == 13
     assert seeds_for_width(0.0) == 2 and seeds_for_width(0.8) is None  # 0.8: about 246 seeds
     groups = {"moving_obstacles_5_3": [_done(task, r) for r in (0.5, 0.6, 0.7, 0.8, 0.9)],
-              "moving_obstacles_5_3_tight": [_done(task, r) for r in (0.70, 0.72, 0.71, 0.69, 0.73)]}
+              "moving_obstacles_5_3_tight": [_done(task, r) for r in (0.70, 0.72, 0.71, 0.69, 0.73)],
+              # mean 6.6%: the interval runs from -5.0% to 18.2%, 23 points wide, and is shown as 0%-18%
+              "moving_obstacles_5_3_near_zero": [_done(task, r) for r in (0.0, 0.0, 0.20, 0.0, 0.13)]}
     text = render(groups, [], ["sweeps/x"])
     section = text.split("## Intervals wider than 20 points")[1]
-    assert "* `moving_obstacles_5_3`: 5 seeds, 50%-90% (standard deviation 16 points over seeds): about 13 seeds" \
+    assert ("* `moving_obstacles_5_3`: 5 seeds, 50%-90%, 39 points wide (standard deviation 16 points over "
+            "seeds): about 13 seeds") in section
+    assert "* `moving_obstacles_5_3_near_zero`: 5 seeds, 0%-18%, 23 points wide (standard deviation 9 points" \
         in section
     assert "tight" not in section
 
