@@ -27,9 +27,11 @@ class EnvConfig:
     """dynnav reward function (sparse, distance, distance_orientation, distance_orientation_always, potential,
     potential_as_written); None: the task's default"""
     reward_params: dict[str, float] = field(default_factory=dict)
-    """dynnav overrides of dynnav_tasks.rewards.RewardParams, e.g. potential_gamma 0.95"""
+    """dynnav overrides of dynnav_tasks.rewards.RewardParams, e.g. potential_gamma 0.95 (on the command line,
+    the keys given replace those of the --config YAML and the others stay)"""
     task_kwargs: dict[str, TaskOption] = field(default_factory=dict)
-    """dynnav task options, e.g. turn_forward_step 0.05 camera_size 32 (integers stay integers)"""
+    """dynnav task options, e.g. turn_forward_step 0.05 camera_size 32 (integers stay integers; on the command
+    line, the keys given replace those of the --config YAML and the others stay)"""
     normalize_obs: bool = True
     """scale every bounded state component to [-1, 1] using the observation space's bounds"""
     state_frames: int = 1

@@ -229,6 +229,9 @@ def check_device(device: str) -> None:
 
 
 # ---------------------------------------------------------------------------------------- command line
+_DICT_FIELDS = ("reward_params", "task_kwargs")  # EnvConfig's key-value options
+
+
 def _flag_value(argv: list[str], flag: str) -> Optional[str]:
     """The value given to ``flag`` (``--flag v`` or ``--flag=v``), or None."""
     for i, arg in enumerate(argv):
@@ -261,7 +264,15 @@ def parse_args(argv: Optional[list[str]] = None) -> Config:
         base = str(Path(resume) / "config.yaml")
     if base:
         default = load_yaml(base)
-    config = tyro.cli(tyro.conf.OmitArgPrefixes[Config], args=argv, default=default, description=Config.__doc__)
+    # tyro turns a non-empty dict default into fixed per-key flags, which would drop --reward-params and
+    # --task-kwargs whenever the YAML sets them: parse them against empty dicts, then lay the flags' keys
+    # over the YAML's (``--reward-params collision_reward -100`` keeps the YAML's distance_gamma)
+    from_yaml = {name: getattr(default.env, name) for name in _DICT_FIELDS}
+    empty = dataclasses.replace(default.env, **{name: {} for name in _DICT_FIELDS})
+    config = tyro.cli(tyro.conf.OmitArgPrefixes[Config], args=argv, default=dataclasses.replace(default, env=empty),
+                      description=Config.__doc__)
+    merged = {name: {**from_yaml[name], **getattr(config.env, name)} for name in _DICT_FIELDS}
+    config = dataclasses.replace(config, env=dataclasses.replace(config.env, **merged))
     if config.eval:
         ignored = sorted(flags_given(argv) - EVAL_FLAGS - {"help"})
         if ignored:

@@ -158,6 +158,17 @@ def test_eval_refuses_training_settings_it_would_ignore():
     assert (c.test.eval_episodes, c.test.eval_picture) == (3, False)
 
 
+def test_key_value_flags_lay_over_the_yaml_keys(tmp_path):
+    path = write(tmp_path, "env:\n  reward_params: {distance_gamma: 0.1}\n  task_kwargs: {turn_forward_step: 0.05}\n")
+    c = parse_args(["--config", str(path), "--reward-params", "collision_reward", "-100"])
+    assert c.env.reward_params == {"distance_gamma": 0.1, "collision_reward": -100.0}
+    assert c.env.task_kwargs == {"turn_forward_step": 0.05}
+    c = parse_args(["--config", str(path), "--reward-params", "distance_gamma", "0.2", "--task-kwargs", "camera_size", "16"])
+    assert c.env.reward_params == {"distance_gamma": 0.2}
+    assert c.env.task_kwargs == {"turn_forward_step": 0.05, "camera_size": 16}
+    assert parse_args(["--config", str(path)]).env.reward_params == {"distance_gamma": 0.1}
+
+
 def test_integer_task_options_stay_integers(tmp_path):
     c = parse_args(["--task-kwargs", "camera_size", "32", "turn_forward_step", "0.05"])
     assert c.env.task_kwargs == {"camera_size": 32, "turn_forward_step": 0.05}
