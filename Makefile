@@ -19,7 +19,7 @@ bench: setup
 	$(PY) benchmarks/env_throughput.py
 
 pictures: setup
-	$(PY) -m dynnav_tasks.pictures
+	$(PY) -m dynnav_tasks.viz.pictures
 
 clean:
 	rm -rf $(VENV) .pytest_cache

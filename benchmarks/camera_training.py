@@ -33,11 +33,11 @@ TASK = "DynNav-VisualMovingTargets-v1"
 
 def run(steps: int, frames: int, mode: str) -> float:
     """Steps/s of ``mode``: state, camera, encode or train."""
-    from agents.config_io import make
-    from agents.envs import make_env_from
-    from agents.experience import make_experience
-    from agents.learner import Batch, DQNLearner
-    from agents.networks import MLPQNetwork
+    from agents.training.config_io import make
+    from agents.training.envs import make_env_from
+    from agents.training.experience import make_experience
+    from agents.core.learner import Batch, DQNLearner
+    from agents.core.networks import MLPQNetwork
 
     config = make(task=TASK, camera_frames=0 if mode == "state" else frames, buffer_size=max(steps + 1000, 5000),
                   batch_size=128, algorithm="ddqn")
@@ -77,8 +77,8 @@ def run(steps: int, frames: int, mode: str) -> float:
 
 
 def autoencoder_batch_seconds(frames: int, repeats: int = 10) -> tuple[float, object]:
-    from agents.config_io import make
-    from agents.state_representation import SRLSettings, StateRepresentation
+    from agents.training.config_io import make
+    from agents.srl.state_representation import SRLSettings, StateRepresentation
 
     settings = SRLSettings.from_config(make(task=TASK, camera_frames=frames))
     srl = StateRepresentation(settings, seed=0)
@@ -97,7 +97,7 @@ def main() -> None:
     parser.add_argument("--no-pin", action="store_true", help="do not pin the process to one core")
     args = parser.parse_args()
     pinned = "not pinned" if args.no_pin else pin_one_core()
-    from agents.threads import limit_threads
+    from agents.training.threads import limit_threads
 
     import torch  # noqa: F401  (so that limit_threads sets torch too)
 
@@ -121,7 +121,7 @@ def main() -> None:
           f"({settings.iterations} iterations x {settings.batches} batches) about {n * seconds:.0f} s, "
           f"{settings.updates} updates about {settings.updates * n * seconds:.0f} s")
 
-    from agents.frame_replay import FrameReplay
+    from agents.core.frame_replay import FrameReplay
 
     print("\nobservation memory for 100,000 observations (frames uint8, latents and state parts float32):")
     for label, shape, latent, state in (("one RGB frame, latent 10, no state parts", (32, 32, 3), 10, 0),

@@ -1,4 +1,4 @@
-"""DQN update speed: the agent's update (``agents.learner.DQNLearner``) beside a naive PyTorch
+"""DQN update speed: the agent's update (``agents.core.learner.DQNLearner``) beside a naive PyTorch
 update loop and two tuned variants of it, measured in the same run on the same batch size and
 network.
 
@@ -26,10 +26,10 @@ import torch
 import torch.nn as nn
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from agents.learner import Batch, DQNLearner  # noqa: E402
-from agents.networks import MLPQNetwork  # noqa: E402
-from agents.replay import ReplayMemory  # noqa: E402
-from agents.threads import limit_threads  # noqa: E402
+from agents.core.learner import Batch, DQNLearner  # noqa: E402
+from agents.core.networks import MLPQNetwork  # noqa: E402
+from agents.core.replay import ReplayMemory  # noqa: E402
+from agents.training.threads import limit_threads  # noqa: E402
 from machine import describe, pin_one_core  # noqa: E402
 
 N_ACTIONS, HIDDEN, GAMMA, MEMORY = 3, 128, 0.97, 50_000

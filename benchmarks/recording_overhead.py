@@ -22,7 +22,7 @@ def steps_per_second(task_id: str, steps: int, obs_mode: str, record_to: Path | 
     from mani_skill.utils.wrappers.gymnasium import CPUGymWrapper
 
     import dynnav_tasks
-    from dynnav_tasks.recording import Recorder
+    from dynnav_tasks.viz.recording import Recorder
 
     env = CPUGymWrapper(dynnav_tasks.make(task_id, obs_mode=obs_mode))
     recorder = Recorder(record_to) if record_to is not None else None

@@ -1,4 +1,4 @@
-"""Planner speed: ``dynnav_tasks.state_planner`` with its plain-Python collision check beside the
+"""Planner speed: ``dynnav_tasks.baselines.state_planner`` with its plain-Python collision check beside the
 same planner with a numpy check (one array expression over the boxes per search node, the first
 way one writes it), measured in the same run on the same episodes.
 
@@ -20,7 +20,7 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from dynnav_tasks import state_planner  # noqa: E402
+from dynnav_tasks.baselines import state_planner  # noqa: E402
 from machine import describe, pin_one_core  # noqa: E402
 
 

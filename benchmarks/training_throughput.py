@@ -33,7 +33,7 @@ STATE_TASK, CAMERA_TASK = "DynNav-MovingTarget-v1", "DynNav-VisualMovingTargets-
 
 
 def random_policy_rate(task: str, frames: int, steps: int) -> float:
-    from agents.envs import make_env
+    from agents.training.envs import make_env
 
     env = make_env(task, camera_frames=frames)
     rng = np.random.default_rng(0)
@@ -52,7 +52,7 @@ def random_policy_rate(task: str, frames: int, steps: int) -> float:
 
 
 def training_rate(**settings) -> float:
-    from agents.config_io import make
+    from agents.training.config_io import make
     from agents.dqn import train
 
     with tempfile.TemporaryDirectory() as tmp:
@@ -74,7 +74,7 @@ def main() -> None:
     pinned = "not pinned" if args.no_pin else pin_one_core()
     import torch
 
-    from agents.threads import limit_threads
+    from agents.training.threads import limit_threads
 
     limit_threads(1)
     print(describe(pinned))

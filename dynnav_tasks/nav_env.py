@@ -49,7 +49,7 @@ from .robot import DiffBot, DriveConfig
 from .scene import HIDDEN_Z, add_lighting, build_world
 from .sensing import Sensing
 from .snapshot import StepSnapshot
-from .top_down import TopDownView
+from .viz.top_down import TopDownView
 from .vulkan import explain, is_vulkan_error, keep_render_pipelines
 from .world import World
 

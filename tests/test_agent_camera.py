@@ -10,14 +10,14 @@ import numpy as np
 import pytest
 import torch
 
-import agents.dqn as dqn
-from agents import checkpoint as ckpt
-from agents.config import Config
-from agents.config_io import make, replace
-from agents.envs import frame_key
-from agents.evaluate import evaluate
-from agents.policy import load_policy
-from agents.state_representation import SRLSettings
+import agents.training.loop as dqn
+from agents.training import checkpoint as ckpt
+from agents.training.config import Config
+from agents.training.config_io import make, replace
+from agents.training.envs import frame_key
+from agents.training.test_phase import evaluate
+from agents.core.policy import load_policy
+from agents.srl.state_representation import SRLSettings
 
 CASES = {
     "rgb": dict(task="DynNav-VisualStaticTarget-v1", camera_frames=1),
@@ -133,7 +133,7 @@ def test_test_phase_writes_latent_maps(camera_run):
 
 
 def test_recording_of_a_camera_checkpoint_shows_latent_and_reconstruction(camera_run, tmp_path):
-    from agents.record import Args, main
+    from agents.training.record import Args, main
 
     from test_recording import read_back
 
@@ -163,7 +163,7 @@ def test_camera_settings_errors_name_the_field(tmp_path):
 def test_pixel_agent_trains_its_encoder_from_the_td_loss(tmp_path):
     """camera_input pixels: a conv Q-network on the frames (+ state parts) learns from the first
     episodes, with no auto-encoder; its checkpoint tests and resumes like any other."""
-    from agents.networks import PixelQNetwork
+    from agents.core.networks import PixelQNetwork
 
     config = small(tmp_path, task="DynNav-VisualMovingTargets-v1", camera_frames=2, camera_input="pixels",
                    camera_state=("lasers",), episodes=3, random_episodes=0, learning_starts=16, buffer_size=500,

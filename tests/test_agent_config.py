@@ -4,9 +4,9 @@ from pathlib import Path
 
 import pytest
 
-from agents.config import Config, ScheduleConfig
-from agents.config_io import get, load_yaml, make, parse_args, to_yaml_dict
-from agents.envs import make_env
+from agents.training.config import Config, ScheduleConfig
+from agents.training.config_io import get, load_yaml, make, parse_args, to_yaml_dict
+from agents.training.envs import make_env
 
 CONFIGS = Path(__file__).resolve().parents[1] / "configs"
 
@@ -86,7 +86,7 @@ def test_unknown_task_and_unsuitable_envs_are_clear_errors():
 
 
 def test_epsilon_and_learning_rate_schedules():
-    from agents.schedules import epsilon_at, learning_rate_at
+    from agents.core.schedules import epsilon_at, learning_rate_at
 
     c = ScheduleConfig(random_episodes=10, epsilon_start=0.8, epsilon_end=0.05, epsilon_decay_episodes=100)
     assert [epsilon_at(c, e) for e in (0, 9)] == [1.0, 1.0]
@@ -107,7 +107,7 @@ def test_observation_scaling_uses_the_space_bounds():
     import gymnasium as gym
     import numpy as np
 
-    from agents.envs import ObsScaler
+    from agents.training.envs import ObsScaler
 
     space = gym.spaces.Box(np.array([0.0, -2.0, -np.inf], np.float32), np.array([5.0, 4.5, np.inf], np.float32))
     scale = ObsScaler(space)

@@ -8,9 +8,9 @@ import pytest
 import torch
 from torch import nn
 
-from agents.learner import Batch, DQNLearner
-from agents.networks import MLPQNetwork, PixelQNetwork, check_q_network, dueling_mlp, random_shift
-from agents.replay import ReplayMemory
+from agents.core.learner import Batch, DQNLearner
+from agents.core.networks import MLPQNetwork, PixelQNetwork, check_q_network, dueling_mlp, random_shift
+from agents.core.replay import ReplayMemory
 
 OBS, ACTIONS, BATCH = 24, 3, 128
 
@@ -149,7 +149,7 @@ def test_replay_ring_buffer_and_state_round_trip():
 
 @pytest.mark.skipif(torch.cuda.is_available(), reason="this machine has a GPU")
 def test_asking_for_a_missing_gpu_is_a_clear_error():
-    from agents.config_io import parse_args
+    from agents.training.config_io import parse_args
 
     with pytest.raises(ValueError, match="torch finds no GPU here"):
         parse_args(["--device", "cuda"])

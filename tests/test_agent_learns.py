@@ -1,9 +1,9 @@
 """The agent learns: a short training run on a dynnav task passes the test phase, and the
 same code learns a gymnasium classic (CartPole) it knows nothing special about."""
 
-from agents.config_io import make
+from agents.training.config_io import make
 from agents.dqn import train
-from agents.evaluate import evaluate
+from agents.training.test_phase import evaluate
 
 
 def test_learns_moving_targets_world(tmp_path):

@@ -2,11 +2,11 @@
 
 import pytest
 
-from agents.config import Config
+from agents.training.config import Config
 from agents.dqn import main, train
-from agents.evaluate import evaluate
-from agents.record import Args
-from agents.record import main as record_main
+from agents.training.test_phase import evaluate
+from agents.training.record import Args
+from agents.training.record import main as record_main
 from test_agent_training import small as small_run
 from test_recording import column, read_back
 

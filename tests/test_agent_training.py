@@ -11,14 +11,14 @@ import pytest
 
 import torch
 
-from agents import checkpoint as ckpt
-from agents.config import Config
-from agents.config_io import load_yaml, make
+from agents.training import checkpoint as ckpt
+from agents.training.config import Config
+from agents.training.config_io import load_yaml, make
 from agents.dqn import main, train
-from agents.evaluate import evaluate
-from agents.networks import MLPQNetwork
-from agents.policy import load_policy
-from agents.stats import wilson_interval
+from agents.training.test_phase import evaluate
+from agents.core.networks import MLPQNetwork
+from agents.core.policy import load_policy
+from agents.training.stats import wilson_interval
 
 TIMING = {"steps_per_s", "wall_time_s"}
 
@@ -243,7 +243,7 @@ def test_trajectory_picture(tmp_path):
     """The test trajectories are drawn on the task's own top-down render (about 15 s: the first render)."""
     from PIL import Image
 
-    from agents.eval_report import OUTCOME_COLORS
+    from agents.training.test_report import OUTCOME_COLORS
 
     run = train(small(tmp_path, episodes=2))
     evaluate(run, episodes=4, picture=True, verbose=False)
@@ -262,9 +262,9 @@ def test_trajectory_picture(tmp_path):
 
 def test_a_users_q_network_named_in_the_config_trains_and_reloads(tmp_path):
     """q_network: 'package.module:factory' plugs any module in; here the dueling example learns the corridor."""
-    from agents.networks import DuelingMLP
+    from agents.core.networks import DuelingMLP
 
-    config = make(task="test/Corridor-v0", q_network="agents.networks:dueling_mlp", episodes=40, learning_starts=16,
+    config = make(task="test/Corridor-v0", q_network="agents.core.networks:dueling_mlp", episodes=40, learning_starts=16,
                   batch_size=16, checkpoint_every=40, target_update_interval=20, epsilon_start=1.0, epsilon_end=0.1,
                   epsilon_decay_episodes=20, learning_rate=0.003, runs_dir=str(tmp_path), progress=False,
                   eval_after_training=False, normalize_obs=False)
@@ -274,5 +274,5 @@ def test_a_users_q_network_named_in_the_config_trains_and_reloads(tmp_path):
     policy.env.close()
     summary = evaluate(run, episodes=3, verbose=False)
     assert summary["success_rate"] == 1.0 and summary["avg_steps_success"] == 4  # straight to the goal
-    with pytest.raises(SystemExit, match="q_network 'agents.networks:nothing': agents.networks has no function"):
-        main(["--task", "test/Corridor-v0", "--q-network", "agents.networks:nothing", "--runs-dir", str(tmp_path)])
+    with pytest.raises(SystemExit, match="q_network 'agents.core.networks:nothing': agents.core.networks has no function"):
+        main(["--task", "test/Corridor-v0", "--q-network", "agents.core.networks:nothing", "--runs-dir", str(tmp_path)])

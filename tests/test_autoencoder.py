@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 import torch
 
-from agents.autoencoder import (
+from agents.srl.autoencoder import (
     SINGLE_RGB,
     STACKED_GRAY,
     AutoEncoderSpec,

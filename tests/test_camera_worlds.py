@@ -11,7 +11,7 @@ import pytest
 from mani_skill.utils.wrappers.gymnasium import CPUGymWrapper
 
 import dynnav_tasks
-from dynnav_tasks.camera_pilot import CameraPilot, run_pilot, target_mask
+from dynnav_tasks.baselines.camera_pilot import CameraPilot, run_pilot, target_mask
 from dynnav_tasks.motion import Static
 from dynnav_tasks.nav_env import NavEnv
 from dynnav_tasks.robot import CAMERA_OFFSET, FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH

@@ -1,4 +1,4 @@
-"""agents.collision_views: where the obstacle that ended a collision stood, seen from the robot."""
+"""agents.analysis.collision_views: where the obstacle that ended a collision stood, seen from the robot."""
 
 import json
 import math
@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import dynnav_tasks  # noqa: F401
-from agents.collision_views import collision_views, motion_heading, relative_bearing, replay_obstacles, summarize
+from agents.analysis.collision_views import collision_views, motion_heading, relative_bearing, replay_obstacles, summarize
 
 
 def test_heading_comes_from_the_last_move_long_enough_and_bearings_are_signed():

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from agents.frame_replay import FrameReplay
-from agents.learner import Batch
+from agents.core.frame_replay import FrameReplay
+from agents.core.learner import Batch
 
 
 def frame(v: int) -> np.ndarray:

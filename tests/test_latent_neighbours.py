@@ -1,11 +1,11 @@
-"""agents.latent_neighbours: how an episode's last latent sits among the other episodes' latents."""
+"""agents.analysis.latent_neighbours: how an episode's last latent sits among the other episodes' latents."""
 
 import json
 
 import numpy as np
 import pytest
 
-from agents.latent_neighbours import load_run, main, neighbour_shares
+from agents.analysis.latent_neighbours import load_run, main, neighbour_shares
 
 
 def write_run(path, latents, episodes):

@@ -1,4 +1,4 @@
-"""agents.outcomes: test episodes grouped by what their seeds drew."""
+"""agents.analysis.outcomes: test episodes grouped by what their seeds drew."""
 
 import json
 
@@ -6,7 +6,7 @@ import gymnasium as gym
 import pytest
 
 import dynnav_tasks  # noqa: F401
-from agents.outcomes import STILL, breakdown, render, route_speed, speed_bin, standing_still
+from agents.analysis.outcomes import STILL, breakdown, render, route_speed, speed_bin, standing_still
 
 TASK = "DynNav-MovingObstacles-v1"
 

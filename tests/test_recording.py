@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 import rerun.chunk as rc
 
-from agents.record import Args, main, record_episodes
-from dynnav_tasks.recording import Recorder
+from agents.training.record import Args, main, record_episodes
+from dynnav_tasks.viz.recording import Recorder
 
 
 def read_back(path):

@@ -1,10 +1,10 @@
-"""agents.routes: test episodes grouped by where their paths first cross a line."""
+"""agents.analysis.routes: test episodes grouped by where their paths first cross a line."""
 
 import json
 
 import pytest
 
-from agents.routes import NEVER, bin_label, by_route, crossing, main, parse_line
+from agents.analysis.routes import NEVER, bin_label, by_route, crossing, main, parse_line
 
 
 def _eval(path, episodes):

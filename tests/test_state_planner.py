@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from dynnav_tasks.motion import BackAndForth, RandomInRect, Route
-from dynnav_tasks.state_planner import ObstacleForecast, run_planner
+from dynnav_tasks.baselines.state_planner import ObstacleForecast, run_planner
 from dynnav_tasks.world import Obstacles, World
 from dynnav_tasks.motion import Static
 
@@ -64,7 +64,7 @@ def test_the_planner_crosses_the_loop_of_world_5_3():
 def test_out_file_collects_each_tasks_rates_and_refuses_junk(tmp_path, capsys):
     from types import SimpleNamespace
 
-    from dynnav_tasks.cli import run_over_tasks
+    from dynnav_tasks.baselines.cli import run_over_tasks
 
     def fake_run(task, seeds):
         outcomes = ["success"] * (len(seeds) - 1) + ["collision"]

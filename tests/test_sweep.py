@@ -1,4 +1,4 @@
-"""Sweeps on local Ray (agents.sweep) and the results report (agents.report), with tiny runs."""
+"""Sweeps on local Ray (agents.study.sweep) and the results report (agents.study.report), with tiny runs."""
 
 import json
 from pathlib import Path
@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 import ray
 
-from agents.report import episodes_to_converge, write_report
-from agents.sweep import SUMMARY, find_run_dir, plan, run_sweep
+from agents.study.report import episodes_to_converge, write_report
+from agents.study.sweep import SUMMARY, find_run_dir, plan, run_sweep
 
 TINY = """task: DynNav-MovingTarget-v1
 reward_mode: distance
@@ -156,7 +156,7 @@ def test_a_failing_run_is_reported_with_its_error(tmp_path, local_ray):
 
 
 def test_two_sweeps_on_one_folder_both_stay_in_its_summary(tmp_path, local_ray):
-    # one sweep per core on one folder, as agents/REPRODUCE.md runs the study
+    # one sweep per core on one folder, as agents/study/REPRODUCE.md runs the study
     out = tmp_path / "out"
     configs = []
     for name in (A, B):
@@ -192,15 +192,15 @@ def test_episodes_to_converge():
 
 
 def _done(task: str, success: float) -> dict:
-    """A finished run as agents.report loads it (100 test episodes)."""
+    """A finished run as agents.study.report loads it (100 test episodes)."""
     return dict(finished=True, task=task, success=success, n=100, steps=40.0, converge=1000, wall=60.0,
                 trained=4000, metrics={}, seed=1, experiment="")
 
 
 def test_report_picks_each_numbered_cells_best_row_and_shows_the_ceiling(tmp_path):
-    from agents.report import render
-    from agents.report_cells import cell_of, study_rate
-    from agents.thesis_results import THESIS
+    from agents.study.report import render
+    from agents.study.cells import cell_of, study_rate
+    from agents.study.numbers import THESIS
 
     assert sum(study_rate(e) is not None for e in THESIS) == 14  # the study's numbered cells
     assert study_rate("moving_obstacles_5_3") == pytest.approx(0.93)
@@ -232,8 +232,8 @@ def test_report_picks_each_numbered_cells_best_row_and_shows_the_ceiling(tmp_pat
 
 
 def test_report_lists_wide_intervals_with_the_seeds_that_would_narrow_them():
-    from agents.report import render
-    from agents.report_cells import seeds_for_width
+    from agents.study.report import render
+    from agents.study.cells import seeds_for_width
 
     task = "DynNav-MovingObstacles-v1"
     # rates 50-90%: sd 15.8 points, interval 2 * 2.776 * 0.158 / sqrt(5) = 39 points wide; at that
@@ -254,7 +254,7 @@ def test_report_lists_wide_intervals_with_the_seeds_that_would_narrow_them():
 
 
 def test_report_lists_each_rows_seeds_in_seed_order():
-    from agents.report import render
+    from agents.study.report import render
 
     task = "DynNav-MovingObstacles-v1"
     # found in folder-name order (seed1, seed10, seed2, ...): the per-seed column still reads seed 1, 2, ..., 10
@@ -269,14 +269,14 @@ def test_report_refuses_a_ceilings_file_it_cannot_read(tmp_path, sweep):
     _, out, _ = sweep
     bad = tmp_path / "ceilings.json"
     bad.write_text('{"DynNav-MovingTarget-v1": 0.9}')
-    with pytest.raises(ValueError, match="not what dynnav_tasks.state_planner --out writes"):
+    with pytest.raises(ValueError, match="not what dynnav_tasks.baselines.state_planner --out writes"):
         write_report([out], tmp_path / "R.md", ceilings=bad)
     assert not (tmp_path / "R.md").exists() and not (tmp_path / "docs").exists()  # nothing written
 
 
 def test_report_lists_the_configs_short_of_five_seeds(tmp_path):
-    from agents.report import render
-    from agents.report_cells import find_configs
+    from agents.study.report import render
+    from agents.study.cells import find_configs
 
     (tmp_path / "beyond").mkdir()
     for name in ("moving_obstacles_5_3.yaml", "beyond/moving_obstacles_5_3_ddqn.yaml", "camera_5_5a.yaml"):

@@ -1,0 +1,69 @@
+"""Replay memory: preallocated numpy arrays used as a ring buffer of transitions."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from agents.core.learner import Batch
+
+
+class ReplayMemory:
+    """Holds the last ``capacity`` transitions (s, a, r, s', 1 - terminated)."""
+
+    def __init__(self, capacity: int, obs_dim: int):
+        if capacity < 1:
+            raise ValueError(f"replay memory capacity must be positive, got {capacity}")
+        self.capacity, self.obs_dim = int(capacity), int(obs_dim)
+        self.obs = np.zeros((capacity, obs_dim), dtype=np.float32)
+        self.next_obs = np.zeros((capacity, obs_dim), dtype=np.float32)
+        self.actions = np.zeros(capacity, dtype=np.int64)
+        self.rewards = np.zeros(capacity, dtype=np.float32)
+        self.not_done = np.zeros(capacity, dtype=np.float32)
+        self.pos = 0
+        """index the next transition is written to"""
+        self.size = 0
+        """number of transitions held"""
+
+    def __len__(self) -> int:
+        return self.size
+
+    def add(self, obs, action: int, reward: float, next_obs, terminated: bool) -> None:
+        """Store one transition; a truncated (timed-out) step is stored as not terminated."""
+        i = self.pos
+        self.obs[i] = obs
+        self.next_obs[i] = next_obs
+        self.actions[i] = action
+        self.rewards[i] = reward
+        self.not_done[i] = 0.0 if terminated else 1.0
+        self.pos = (i + 1) % self.capacity
+        self.size = min(self.size + 1, self.capacity)
+
+    def sample_into(self, batch: Batch, rng: np.random.Generator) -> None:
+        """Copy a uniformly drawn minibatch (with replacement) into ``batch``'s arrays."""
+        idx = rng.integers(0, self.size, size=len(batch.actions))
+        np.take(self.obs, idx, axis=0, out=batch.obs[0])
+        np.take(self.next_obs, idx, axis=0, out=batch.next_obs[0])
+        np.take(self.actions, idx, out=batch.actions)
+        np.take(self.rewards, idx, out=batch.rewards)
+        np.take(self.not_done, idx, out=batch.not_done)
+
+    # ------------------------------------------------------------------ checkpoints
+    def state_dict(self) -> dict:
+        """The filled part only (a checkpoint early in training stays small)."""
+        n = self.size
+        return dict(
+            capacity=self.capacity, obs_dim=self.obs_dim, pos=self.pos, size=n,
+            obs=self.obs[:n].copy(), next_obs=self.next_obs[:n].copy(), actions=self.actions[:n].copy(),
+            rewards=self.rewards[:n].copy(), not_done=self.not_done[:n].copy(),
+        )
+
+    def load_state_dict(self, state: dict) -> None:
+        if (state["capacity"], state["obs_dim"]) != (self.capacity, self.obs_dim):
+            raise ValueError(
+                f"checkpoint replay memory holds {state['capacity']} x {state['obs_dim']} transitions, "
+                f"this one {self.capacity} x {self.obs_dim}"
+            )
+        n = int(state["size"])
+        for name in ("obs", "next_obs", "actions", "rewards", "not_done"):
+            getattr(self, name)[:n] = state[name]
+        self.size, self.pos = n, int(state["pos"])

@@ -1,0 +1,222 @@
+"""The training configuration: dataclasses grouped by job, parsed by tyro, loadable from YAML.
+
+    python -m agents.dqn --config configs/moving_target_5_2.yaml --seed 3 --learning-rate 0.001
+
+``Config`` holds the task, the run's name, seed and episode count, the mode (``--eval``,
+``--resume``) and one group per job: ``env`` (reward and task options), ``dqn`` (the algorithm
+and network), ``schedule`` (epsilon and learning rate per episode), ``camera`` (camera runs),
+``test`` (the test phase) and ``run`` (files, device, recordings). Flags keep their field names
+(``--learning-rate``, not ``--dqn.learning-rate``); ``--help`` lists them by group. A YAML file
+groups them the same way (``dqn: {learning_rate: 0.001}``); the older flat layout, every field
+at the top level, still loads (see ``agents/training/config_io.py``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Literal, Optional, Union
+
+TaskOption = Union[int, float, bool, str]
+
+
+@dataclass
+class EnvConfig:
+    """Task options (dynnav tasks)."""
+
+    reward_mode: Optional[str] = None
+    """dynnav reward function (sparse, distance, distance_orientation, distance_orientation_always, potential,
+    potential_as_written); None: the task's default"""
+    reward_params: dict[str, float] = field(default_factory=dict)
+    """dynnav overrides of dynnav_tasks.rewards.RewardParams, e.g. potential_gamma 0.95 (on the command line,
+    the keys given replace those of the --config YAML and the others stay)"""
+    task_kwargs: dict[str, TaskOption] = field(default_factory=dict)
+    """dynnav task options, e.g. turn_forward_step 0.05 camera_size 32 (integers stay integers; on the command
+    line, the keys given replace those of the --config YAML and the others stay)"""
+    normalize_obs: bool = True
+    """scale every bounded state component to [-1, 1] using the observation space's bounds"""
+    state_frames: int = 1
+    """state-vector runs: the Q-network reads the last N state vectors, oldest first, the first one
+    repeated after a reset (beyond the study, which used 1: one state holds the obstacles'
+    positions but not their speeds, two show how they move)"""
+
+
+@dataclass
+class DQNConfig:
+    """The algorithm and the Q-network."""
+
+    algorithm: Literal["dqn", "ddqn"] = "dqn"
+    """dqn: target max_a Q_target(s', a) (Alg. 1); ddqn: Q_target(s', argmax_a Q(s', a)) (Appendix A)"""
+    gamma: float = 0.97
+    """discount factor"""
+    hidden_sizes: tuple[int, ...] = (128, 128)
+    """widths of the Q-network's ReLU hidden layers (the MLP on state vectors and latents)"""
+    q_network: Optional[str] = None
+    """your own Q-network: 'package.module:factory', factory(input_shapes, n_actions) -> torch.nn.Module
+    (e.g. agents.core.networks:dueling_mlp); None: the MLP (or, with camera_input pixels, the conv net)"""
+    batch_size: int = 128
+    """minibatch size"""
+    buffer_size: int = 100_000
+    """replay memory capacity (transitions)"""
+    learning_starts: int = 1000
+    """environment steps collected before the first update"""
+    train_frequency: int = 1
+    """one update every this many environment steps"""
+    loss: Literal["mse", "huber"] = "mse"
+    """TD loss: mean squared error (the thesis) or Huber (smooth L1, delta 1)"""
+    max_grad_norm: float = 0.0
+    """clip the gradient's global norm to this; 0: no clipping"""
+    target_update: Literal["hard", "soft"] = "hard"
+    """hard: copy the network every target_update_interval steps; soft: theta- <- tau theta + (1 - tau) theta- every update"""
+    target_update_interval: int = 500
+    """environment steps between hard target copies (C in Alg. 1)"""
+    tau: float = 0.005
+    """soft target update rate"""
+
+
+@dataclass
+class ScheduleConfig:
+    """Exploration and learning rate, changed once per episode."""
+
+    learning_rate: float = 0.003
+    """Adam learning rate (at the first episode)"""
+    learning_rate_end: float = 0.0003
+    """learning rate reached after lr_decay_episodes (ignored by the constant schedule)"""
+    lr_schedule: Literal["constant", "linear", "exponential"] = "constant"
+    """how the learning rate moves from learning_rate to learning_rate_end"""
+    lr_decay_episodes: int = 2000
+    """episodes over which the learning rate decays"""
+    random_episodes: int = 0
+    """first episodes played at epsilon 1 (fully random), before the decay starts"""
+    epsilon_start: float = 0.8
+    """epsilon when the decay starts"""
+    epsilon_end: float = 0.05
+    """epsilon after the decay"""
+    epsilon_decay_episodes: int = 1000
+    """episodes over which epsilon decays (after random_episodes)"""
+    epsilon_schedule: Literal["linear", "exponential"] = "linear"
+    """how epsilon moves from epsilon_start to epsilon_end"""
+
+
+@dataclass
+class CameraConfig:
+    """Camera runs (dynnav camera worlds): the study's auto-encoder (Sec. 4.3, Alg. 2) or pixels end to end."""
+
+    camera_frames: int = 0
+    """0: the Q-network reads the task's state vector; 1: the RGB camera frame; N >= 2: the stack of the last N gray frames"""
+    camera_input: Literal["latent", "pixels"] = "latent"
+    """latent: the study's auto-encoder compresses each frame, on Alg. 2's schedule; pixels: a conv
+    Q-network reads the frames and its encoder learns from the TD loss (with random shifts)"""
+    camera_state: tuple[str, ...] = ()
+    """with a camera: parts of the state vector fed beside the frames (Table 5.4), e.g. lasers robot_xy
+    obstacles (every obstacle's position); see the task's state_layout()"""
+    pixel_shift: int = 2
+    """camera_input pixels: random shift of up to this many pixels per frame in the update (DrQ); 0: none"""
+    ae_latent: int = 0
+    """auto-encoder latent size; 0: 10 for one frame, 15 for stacks (Table 5.3)"""
+    ae_conv_channels: tuple[int, ...] = ()
+    """filters of the two convolutions; empty: 32 64 for one frame, 64 128 for stacks"""
+    ae_dense: int = 64
+    """width of the auto-encoder's dense layer"""
+    ae_learning_rate: float = 0.001
+    """Adam learning rate of the auto-encoder"""
+    ae_first_update: int = 400
+    """episode of the first auto-encoder update; before it actions are random and the Q-network does not train"""
+    ae_update_every: int = 400
+    """episodes between auto-encoder updates"""
+    ae_updates: int = 0
+    """number of auto-encoder updates; 0: 3 for one frame, 4 for stacks"""
+    ae_iterations: int = 0
+    """iterations per update; 0: 20 for one frame, 40 for stacks"""
+    ae_batches: int = 0
+    """batches per iteration; 0: 50 for one frame, 25 for stacks"""
+    ae_batch_size: int = 256
+    """frames per auto-encoder batch"""
+    ae_rare_colour_power: float = 0.0
+    """beyond the study: weight each pixel's reconstruction error by (frequency of its colour in the
+    observation memory)^-p, normalised to a mean weight of 1; 0: every pixel the same (Eq. 4.10)"""
+    ae_pictures_every: int = 100
+    """save observation / reconstruction pairs every this many episodes once the auto-encoder is trained"""
+
+
+@dataclass
+class TestConfig:
+    """The test phase (after training, or of a checkpoint with --eval)."""
+
+    eval_after_training: bool = True
+    """run the test phase when training ends"""
+    eval_episodes: int = 100
+    """test episodes (greedy unless eval_epsilon > 0)"""
+    eval_seed: int = 1_000_000
+    """test episode i is reset with seed eval_seed + i (training episodes use other seeds)"""
+    eval_epsilon: float = 0.0
+    """probability of a random action in a test step (0: greedy, as the study tests)"""
+    eval_out: Optional[str] = None
+    """folder for eval.json, eval.md and the pictures of --eval (default: beside the checkpoint)"""
+    eval_picture: bool = True
+    """draw the test trajectories on the task's top-down picture (dynnav tasks)"""
+
+
+@dataclass
+class RunConfig:
+    """Files, device and recordings."""
+
+    runs_dir: str = "runs"
+    """directory the run directories are created in"""
+    checkpoint_every: int = 100
+    """write a checkpoint (and the learning-curve pictures) every this many episodes"""
+    progress: bool = True
+    """show a progress bar"""
+    device: str = "cpu"
+    """where the Q-network and its update run: cpu, cuda or cuda:N (an error if torch sees no GPU)"""
+    rerun: Optional[str] = None
+    """write a Rerun recording (.rrd) here: every rerun_every-th training episode step by step with
+    its Q-values, the training curves, and (with --eval) every test episode"""
+    rerun_every: int = 100
+    """record every this many training episodes (the first included)"""
+
+
+@dataclass
+class Config:
+    """Train a DQN / Double DQN agent, or test a trained one (--eval)."""
+
+    config: Optional[str] = None
+    """YAML file of settings to start from (with --resume: the run's config.yaml); flags override it"""
+    task: str = "DynNav-MovingTarget-v1"
+    """gymnasium task id: a dynnav task (dynnav_tasks.TASK_IDS) or any env with Discrete actions and a Box state"""
+    name: str = "dqn"
+    """experiment name, part of the run directory runs/<task>__<name>__<seed>__<time>"""
+    seed: int = 1
+    """seeds the networks, exploration, replay sampling and every training episode"""
+    episodes: int = 2000
+    """training episodes"""
+    eval: bool = False
+    """test a checkpoint (--checkpoint) with its own settings instead of training"""
+    checkpoint: Optional[str] = None
+    """checkpoint (or run directory) to test with --eval"""
+    resume: Optional[str] = None
+    """run directory of a stopped run to continue from its last checkpoint"""
+    env: EnvConfig = field(default_factory=EnvConfig)
+    """task options"""
+    dqn: DQNConfig = field(default_factory=DQNConfig)
+    """the algorithm and the Q-network"""
+    schedule: ScheduleConfig = field(default_factory=ScheduleConfig)
+    """exploration and learning rate per episode"""
+    camera: CameraConfig = field(default_factory=CameraConfig)
+    """camera runs"""
+    test: TestConfig = field(default_factory=TestConfig)
+    """the test phase"""
+    run: RunConfig = field(default_factory=RunConfig)
+    """files, device and recordings"""
+
+    def validate(self) -> "Config":
+        """Raise ValueError naming the first field with an impossible value."""
+        from agents.training.config_io import validate
+
+        validate(self)
+        return self
+
+
+GROUPS = {"env": EnvConfig, "dqn": DQNConfig, "schedule": ScheduleConfig, "camera": CameraConfig,
+          "test": TestConfig, "run": RunConfig}
+MODE_FIELDS = ("config", "eval", "checkpoint", "resume")
+"""top-level fields that choose what a command does; not written to a run's config.yaml"""

@@ -1,0 +1,114 @@
+"""The test phase: a trained Q-network drives greedily (epsilon 0) through a fixed set of
+episodes; success, collision and timeout rates, steps and SPL are reported (``agents.training.stats``).
+
+    python -m agents.dqn --eval --checkpoint runs/<run> [--eval-episodes 100]
+
+Test episode i is reset with seed ``eval_seed + i`` (default 1_000_000 + i), so every
+checkpoint is tested on the same episodes, none of which it was trained on (training episodes
+use hashed seeds). Results go next to the checkpoint: eval.json (summary and every episode),
+eval.md (the table printed here) and, for dynnav tasks, trajectories.png (``agents.training.test_report``).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from agents.training.envs import is_dynnav
+from agents.training.test_report import draw_trajectories, write_results
+from agents.core.policy import Policy, load_policy
+from agents.training.rollout import greedy, open_recorder, rollout
+from agents.training.stats import spl, summarize
+from agents.training.threads import limit_threads
+
+
+def run_episodes(policy: Policy, episodes: int, seed: int, recorder=None, latents: list | None = None,
+                 epsilon: float = 0.0) -> list[dict]:
+    """Greedy rollouts of ``policy`` on seeds seed, seed + 1, ...; one record per episode.
+
+    With ``epsilon`` > 0 a step's action is random with that probability, drawn from a generator
+    seeded with the episode's seed, so such a test replays exactly too. ``latents``, for camera
+    latent runs, receives (latent, target index, reward) per step."""
+    env = policy.env
+    dynnav = is_dynnav(policy.config.task)
+    reach = float(env.unwrapped.reach_radius) if dynnav else 0.0
+    n_actions = int(env.action_space.n)
+    records = []
+    for i in range(episodes):
+        path, start = [], {}
+
+        def on_reset(obs):
+            if dynnav:  # the task's snapshot, whatever the observation holds
+                snapshot = env.unwrapped.snapshot
+                start["robot"], start["target"] = snapshot.robot_xy, np.array(snapshot.target_xy)
+                path.append(start["robot"].tolist())
+
+        def on_step(action, reward, obs, terminated, truncated, info):
+            if dynnav:
+                path.append(list(env.unwrapped.snapshot.pose[:2]))
+            latent = getattr(policy.features, "last_latent", None)
+            if latents is not None and latent is not None:
+                latents.append((latent, env.unwrapped.target_index, reward))
+
+        act = greedy(policy.q_values, n_actions, epsilon, np.random.default_rng(seed + i))
+        episode = rollout(env, seed + i, act, on_reset, on_step, recorder, index=i, views=policy.views)
+        record = dict(seed=seed + i, outcome=episode.outcome, steps=episode.length, ret=round(episode.ret, 4))
+        if dynnav:
+            shortest = max(float(np.linalg.norm(start["target"] - start["robot"])) - reach, 0.0)
+            driven = float(episode.info["path_length"])
+            record.update(path_length=round(driven, 4), shortest_path=round(shortest, 4),
+                          spl=spl(episode.outcome == "success", shortest, driven),
+                          target_start=start["target"].tolist(), trajectory=path)
+        records.append(record)
+    return records
+
+
+def evaluate_as_configured(config, checkpoint_path, **kwargs) -> dict:
+    """``evaluate`` with the test settings of ``config`` (eval_episodes, eval_seed, eval_picture,
+    eval_epsilon); ``kwargs`` go to ``evaluate`` (out_dir, verbose, rerun, device)."""
+    t = config.test
+    return evaluate(checkpoint_path, episodes=t.eval_episodes, seed=t.eval_seed, picture=t.eval_picture,
+                    epsilon=t.eval_epsilon, **kwargs)
+
+
+def evaluate(checkpoint_path, episodes: int = 100, seed: int = 1_000_000, picture: bool = True,
+             out_dir: str | Path | None = None, verbose: bool = True, rerun: str | Path | None = None,
+             epsilon: float = 0.0, device: str | None = None) -> dict:
+    """Test the checkpoint's Q-network; write eval.json / eval.md (/ trajectories.png); return the summary.
+
+    ``epsilon``: probability of a random action per step (0, greedy, is the test).
+    ``rerun``: also write every test episode to this Rerun recording (dynnav tasks)."""
+    limit_threads(1)
+    policy = load_policy(checkpoint_path, device=device)
+    config, env, path, trained = policy.config, policy.env, policy.path, policy.state["episode"]
+    try:
+        recorder = open_recorder(rerun, config.task)  # checks the recording path before any work
+        out_dir = Path(out_dir) if out_dir is not None else path.parent
+        out_dir.mkdir(parents=True, exist_ok=True)
+        latents = [] if hasattr(policy.features, "last_latent") else None
+        records = run_episodes(policy, episodes, seed, recorder, latents, epsilon)
+        if recorder is not None:
+            recorder.close()
+        if latents:
+            from agents.srl.pictures import plot_latents
+
+            z, targets, rewards = (np.array(v) for v in zip(*latents))
+            np.savez_compressed(out_dir / "latents.npz", latents=z, targets=targets, rewards=rewards)
+            plot_latents(z, targets, rewards, out_dir, title=config.task)
+        summary = summarize(records, epsilon)
+        result = dict(task=config.task, checkpoint=str(path), trained_episodes=trained, eval_seed=seed,
+                      summary=summary, episodes=records)
+        table = write_results(out_dir, result, f"Test of {path} after {trained} training episodes")
+        if verbose:
+            print(f"\ntest phase: {path} ({trained} training episodes)\n")
+            print(table)
+        if picture and is_dynnav(config.task):
+            draw_trajectories(env, records, out_dir / "trajectories.png")
+            if verbose:
+                print(f"trajectories: {out_dir / 'trajectories.png'}")
+        if verbose:
+            print(f"results: {out_dir / 'eval.json'}, {out_dir / 'eval.md'}")
+    finally:
+        env.close()
+    return summary

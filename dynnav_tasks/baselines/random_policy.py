@@ -1,0 +1,67 @@
+"""Roll out a random policy on a dynnav task and print each episode's outcome.
+
+    python -m dynnav_tasks.baselines.random_policy --task DynNav-MovingObstacles-v1 --episodes 5 --seed 0
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+import tyro
+
+
+@dataclass
+class Args:
+    task: str = "DynNav-MovingTarget-v1"
+    """registered task id (see dynnav_tasks.TASK_IDS)"""
+    episodes: int = 10
+    """number of episodes to roll out"""
+    seed: int = 0
+    """seed of the first episode; episode i uses seed + i"""
+    reward_mode: str = "distance_orientation_always"
+    """one of dynnav_tasks.rewards.REWARD_MODES"""
+
+
+def outcome(info: dict) -> str:
+    if info["success"]:
+        return "success"
+    if info["collision"]:
+        return "collision"
+    return "timeout"
+
+
+def main(args: Args) -> None:
+    import dynnav_tasks
+    from mani_skill.utils.wrappers.gymnasium import CPUGymWrapper
+
+    try:
+        env = CPUGymWrapper(dynnav_tasks.make(args.task, reward_mode=args.reward_mode))
+    except ValueError as err:
+        raise SystemExit(f"error: {err}")
+    rng = np.random.default_rng(args.seed)
+    print(f"{args.task}: random policy, {args.episodes} episodes, reward_mode={args.reward_mode}")
+    print(f"{'episode':>7} {'seed':>6} {'outcome':>9} {'steps':>5} {'return':>8} {'path m':>7} {'to target m':>11}")
+    counts, steps_total, t0 = {}, 0, time.perf_counter()
+    for ep in range(args.episodes):
+        env.reset(seed=args.seed + ep)
+        ret, steps, done = 0.0, 0, False
+        while not done:
+            _, reward, terminated, truncated, info = env.step(int(rng.integers(env.action_space.n)))
+            ret += float(reward)
+            steps += 1
+            done = bool(terminated or truncated)
+        result = outcome(info)
+        counts[result] = counts.get(result, 0) + 1
+        steps_total += steps
+        print(f"{ep:>7} {args.seed + ep:>6} {result:>9} {steps:>5} {ret:>8.2f} "
+              f"{float(info['path_length']):>7.2f} {float(info['distance_to_target']):>11.2f}")
+    elapsed = time.perf_counter() - t0
+    summary = ", ".join(f"{k} {v}" for k, v in sorted(counts.items()))
+    print(f"outcomes: {summary}; {steps_total} steps in {elapsed:.2f} s ({steps_total / elapsed:.0f} steps/s)")
+    env.close()
+
+
+if __name__ == "__main__":
+    main(tyro.cli(Args))
