@@ -57,5 +57,10 @@ def main(argv: list[str] | None = None) -> None:
         raise SystemExit(f"error: {err}")
 
 
+def eval_main(argv: list[str] | None = None) -> None:
+    """``dynnav-eval``: the test phase of a checkpoint (``python -m agents.dqn --eval ...``)."""
+    main(["--eval", *(sys.argv[1:] if argv is None else argv)])
+
+
 if __name__ == "__main__":
     main(sys.argv[1:])

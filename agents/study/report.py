@@ -43,7 +43,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from agents.training.checkpoint import atomic_write_bytes
+from agents.files import atomic_write_bytes
 from agents.training.stats import wilson_interval
 from agents.training.plots import moving_average, read_metrics
 from agents.study.cells import (cells_table, find_configs, format_ceiling, load_ceilings, short_of_seeds, study_rate,

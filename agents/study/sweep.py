@@ -34,7 +34,8 @@ import time
 import traceback
 from pathlib import Path
 
-from agents.training.checkpoint import atomic_write_bytes, exists
+from agents.files import atomic_write_bytes
+from agents.training.checkpoint import exists
 from agents.training.config import Config
 from agents.training.config_io import load_yaml, replace
 

@@ -32,6 +32,8 @@ from pathlib import Path
 import numpy as np
 import torch
 
+from agents.files import atomic_write_bytes, umask
+
 FORMAT = "dynnav-dqn-checkpoint"
 VERSION = 2
 FILENAME = "checkpoint"
@@ -42,29 +44,6 @@ OLD_PICKLE = "checkpoint.pkl"
 
 class CheckpointError(ValueError):
     """A checkpoint is missing, truncated, corrupt, or not a checkpoint of this agent's format."""
-
-
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
-
-
-def atomic_write_bytes(path: str | Path, data: bytes) -> None:
-    """Write ``data`` to ``path`` so that readers see the old or the new content, nothing else."""
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        os.fchmod(fd, 0o666 & ~_umask())  # mkstemp makes 0600; give the file the usual mode
-        with os.fdopen(fd, "wb") as f:
-            f.write(data)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
 
 
 def clean_leftovers(run_dir: str | Path) -> None:
@@ -137,7 +116,7 @@ def save(run_dir: str | Path, state: dict) -> Path:
     meta = {"format": FORMAT, "version": VERSION, **meta}
     tmp = Path(tempfile.mkdtemp(dir=run_dir, prefix=".checkpoint.tmp-"))
     try:
-        os.chmod(tmp, 0o777 & ~_umask())
+        os.chmod(tmp, 0o777 & ~umask())
         buffer = io.BytesIO()
         torch.save(tensors, buffer)
         npz = io.BytesIO()

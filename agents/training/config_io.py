@@ -154,7 +154,7 @@ def load_yaml(path: str | Path) -> Config:
 
 
 def save_yaml(config: Config, path: str | Path) -> None:
-    from agents.training.checkpoint import atomic_write_bytes
+    from agents.files import atomic_write_bytes
 
     atomic_write_bytes(path, yaml.safe_dump(to_yaml_dict(config), sort_keys=False).encode())
 

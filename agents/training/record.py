@@ -77,7 +77,10 @@ def record(args: Args) -> list[tuple[str, int]]:
         env.close()
 
 
-def main(args: Args) -> None:
+def main(args: Args | None = None) -> None:
+    """``python -m agents.training.record`` / ``dynnav-record``."""
+    if args is None:
+        args = tyro.cli(Args)
     try:
         results = record(args)
     except ValueError as err:
@@ -89,4 +92,4 @@ def main(args: Args) -> None:
 
 
 if __name__ == "__main__":
-    main(tyro.cli(Args))
+    main()

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from agents.training.checkpoint import atomic_write_bytes
+from agents.files import atomic_write_bytes
 from agents.training.config_io import get
 
 METRICS = ["episode", "global_step", "return", "length", "success", "collision", "timeout", "loss",

@@ -6,7 +6,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from agents.training.checkpoint import atomic_write_bytes
+from agents.files import atomic_write_bytes
 
 OUTCOME_COLORS = {"success": (30, 90, 255), "collision": (230, 30, 30), "timeout": (255, 170, 0)}
 
