@@ -4,13 +4,13 @@ VENV ?= .venv
 PY := $(VENV)/bin/python
 TASK ?= DynNav-MovingTarget-v1
 
-.PHONY: setup demo test bench pictures clean
+.PHONY: setup demo test bench pictures docs clean
 
 setup:
 	@bash scripts/setup.sh
 
 demo: setup
-	$(PY) -m agents.dqn --config configs/demo_5_2.yaml --task $(TASK)
+	$(PY) -m agents.dqn --config configs/demo.yaml --task $(TASK)
 
 test: setup
 	$(PY) -m pytest -q tests
@@ -20,6 +20,9 @@ bench: setup
 
 pictures: setup
 	$(PY) -m dynnav_tasks.viz.pictures
+
+docs: setup
+	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --strict
 
 clean:
 	rm -rf $(VENV) .pytest_cache

@@ -36,7 +36,8 @@ def run(steps: int, frames: int, mode: str) -> float:
     from agents.training.config_io import make
     from agents.training.envs import make_env_from
     from agents.training.experience import make_experience
-    from agents.core.learner import Batch, DQNLearner
+    from agents.core.learner import DQNLearner
+    from agents.core.replay import Batch
     from agents.core.networks import MLPQNetwork
 
     config = make(task=TASK, camera_frames=0 if mode == "state" else frames, buffer_size=max(steps + 1000, 5000),

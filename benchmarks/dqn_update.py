@@ -26,9 +26,9 @@ import torch
 import torch.nn as nn
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from agents.core.learner import Batch, DQNLearner  # noqa: E402
+from agents.core.learner import DQNLearner  # noqa: E402
 from agents.core.networks import MLPQNetwork  # noqa: E402
-from agents.core.replay import ReplayMemory  # noqa: E402
+from agents.core.replay import Batch, ReplayMemory  # noqa: E402
 from agents.training.threads import limit_threads  # noqa: E402
 from machine import describe, pin_one_core  # noqa: E402
 

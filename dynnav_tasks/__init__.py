@@ -9,8 +9,10 @@ Importing the package registers every task with ManiSkill and gymnasium::
     env = dynnav_tasks.NumpyWrapper(env)                          # plain gymnasium: numpy, unbatched
 
 ``dynnav_tasks.make`` does the same as ``gym.make`` and, for an unknown task id, lists the
-valid ones. ``gym.make_vec(task_id, num_envs=n)`` (sync or async) gives observations of shape
-``(n, state size)``; see ``registration.py``.
+valid ones. ``gym.make_vec(task_id, num_envs=n)`` gives observations of shape
+``(n, state size)``; gymnasium's "sync" and "async" modes do with
+``wrappers=[dynnav_tasks.NumpyWrapper]`` (see ``registration.py``). ``outcome_of(info,
+terminated)`` names how an episode ended (``outcomes.py``).
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ from . import robot  # noqa: F401  (registers the agent)
 from . import tasks  # noqa: F401  (registers the tasks)
 from .errors import check_choice
 from .nav_env import NavEnv
+from .outcomes import OUTCOMES, outcome_of
 from .registration import register_with_gymnasium
 from .snapshot import StepSnapshot
 from .wrappers import NumpyWrapper
@@ -31,7 +34,10 @@ VISUAL_TASK_IDS = tuple(uid for uid in TASK_IDS if REGISTERED_ENVS[uid].cls.came
 """The camera worlds of the thesis (5.5a-c)."""
 register_with_gymnasium(TASK_IDS)
 
-__all__ = ["NavEnv", "NumpyWrapper", "StepSnapshot", "TASK_IDS", "VISUAL_TASK_IDS", "check_choice", "make"]
+__all__ = [
+    "NavEnv", "NumpyWrapper", "OUTCOMES", "StepSnapshot", "TASK_IDS", "VISUAL_TASK_IDS", "check_choice", "make",
+    "outcome_of",
+]
 
 
 def make(task_id: str, **kwargs):

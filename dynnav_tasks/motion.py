@@ -16,7 +16,7 @@ import math
 from bisect import bisect_right
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Sequence
+from typing import Sequence, Union
 
 import numpy as np
 
@@ -24,9 +24,16 @@ Point = tuple[float, float]
 
 
 class Mover:
-    """Episode state of one motion spec; positions are arrays of shape (count, 2)."""
+    """Episode state of one motion spec; positions are arrays of shape (count, 2).
 
+    Public, read-only for everyone but the mover itself: ``spec`` (the motion spec it runs),
+    ``count`` (bodies it moves) and ``speed`` (metres per control step this episode; ``None``
+    when the motion draws a new step length every step, as ``RandomInRect`` does).
+    """
+
+    spec: Motion
     count = 1
+    speed: float | None = None
 
     def reset(self, rng: np.random.Generator) -> np.ndarray:
         """Start a new episode; return the positions."""
@@ -49,7 +56,7 @@ class Static:
     count = 1
 
     def mover(self) -> Mover:
-        return _StaticMover(np.array([self.at], dtype=np.float64))
+        return _StaticMover(self, np.array([self.at], dtype=np.float64))
 
     def extent(self) -> tuple[np.ndarray, np.ndarray]:
         p = np.array(self.at, dtype=np.float64)
@@ -57,7 +64,10 @@ class Static:
 
 
 class _StaticMover(Mover):
-    def __init__(self, at: np.ndarray):
+    speed = 0.0
+
+    def __init__(self, spec: Static, at: np.ndarray):
+        self.spec = spec
         self.at = at
         self._points = [tuple(p) for p in at.tolist()]
 
@@ -95,6 +105,7 @@ class BackAndForth:
 
 class _BackAndForthMover(Mover):
     def __init__(self, spec: BackAndForth):
+        self.spec = spec
         self.center = np.array(spec.center, dtype=np.float64)
         self.direction = _unit(spec.direction)
         self._c, self._d = self.center.tolist(), self.direction.tolist()
@@ -167,6 +178,16 @@ class Route:
     def position_at(self, s: float) -> np.ndarray:
         """Point at arc length ``s`` (taken modulo the loop length) from the first waypoint."""
         return np.array(self.point_at(s))
+
+    def nearest_arc_length(self, point) -> float:
+        """Arc length (from the first waypoint) of the loop's point nearest to ``point``."""
+        pts, seg, cum = self._geometry
+        p = np.asarray(point, dtype=np.float64)
+        a, b = pts[:-1], pts[1:]
+        t = np.clip(np.einsum("ij,ij->i", p - a, b - a) / seg**2, 0, 1)
+        d = np.linalg.norm(a + (b - a) * t[:, None] - p, axis=1)
+        i = int(np.argmin(d))
+        return float(cum[i] - seg[i] + t[i] * seg[i])
 
     def signed_area(self) -> float:
         """Shoelace area of the loop: negative when it runs clockwise seen from above (z up)."""
@@ -292,6 +313,27 @@ class _UniformRange:
 
     def draw(self, rng: np.random.Generator) -> float:
         return self.low + self.span * rng.random()
+
+
+Motion = Union[Static, BackAndForth, Route, RandomInRect]
+"""Any motion spec of this module."""
+
+
+@dataclass(frozen=True)
+class EpisodeMotion:
+    """What one group of moving bodies does this episode (``NavEnv.obstacle_motions``)."""
+
+    motion: Motion
+    """the group's motion spec, as its world declares it"""
+    count: int
+    """bodies in the group"""
+    speed: float | None
+    """metres per control step this episode; None when drawn anew every step (``RandomInRect``)"""
+
+    @classmethod
+    def of(cls, mover: Mover) -> "EpisodeMotion":
+        """A frozen copy of what ``mover`` runs this episode."""
+        return cls(mover.spec, mover.count, mover.speed)
 
 
 def _unit(v: Sequence[float]) -> np.ndarray:

@@ -16,6 +16,11 @@ Episode rules
     * timeout: ``max_episode_steps`` (200) steps without either; the episode is truncated,
       not terminated.
 
+Reward
+    ``reward_mode`` picks one of ``rewards.SUPPORTED_REWARD_MODES``: the study's (default
+    ``distance_orientation_always``, Eq. 4.6) and ManiSkill's ``dense`` (the same),
+    ``normalized_dense`` (it divided by ``reward_bound``, within [-1, 1]) and ``none``.
+
 State observation (``obs_mode="state"``), float32, in this order (see ``state_layout()``
 and ``observations.py`` for the camera's):
     16 laser readings (m) | robot x, y | target x, y | x, y of each moving obstacle
@@ -31,7 +36,6 @@ Step
 
 from __future__ import annotations
 
-from dataclasses import replace
 from typing import Any, ClassVar, Optional
 
 import gymnasium as gym
@@ -44,8 +48,9 @@ from mani_skill.utils.structs.types import SceneConfig, SimConfig
 from . import rewards as R
 from .camera import CameraSpec
 from .errors import check_choice
+from .motion import EpisodeMotion
 from .observations import OBS_MODES, Observations
-from .robot import DiffBot, DriveConfig
+from .robot import FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH, DiffBot, DriveConfig
 from .scene import HIDDEN_Z, add_lighting, build_world
 from .sensing import Sensing
 from .snapshot import StepSnapshot
@@ -60,7 +65,7 @@ class NavEnv(Observations, TopDownView, BaseEnv):
     metadata = {"render_modes": ["rgb_array"], "render_fps": 5}
     SUPPORTED_ROBOTS = [DiffBot.uid]
     SUPPORTED_OBS_MODES = OBS_MODES
-    SUPPORTED_REWARD_MODES = R.REWARD_MODES
+    SUPPORTED_REWARD_MODES = R.SUPPORTED_REWARD_MODES
 
     world: ClassVar[World]
     """the task's world; set by each task class"""
@@ -98,6 +103,10 @@ class NavEnv(Observations, TopDownView, BaseEnv):
                 "use gymnasium's vector environments for several."
             )
         self.reward_params = R.RewardParams.from_dict({**self.default_reward_params, **(reward_params or {})})
+        self.reward_bound = R.dense_bound(
+            self.reward_params, self.world.span(), min(FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH)
+        )
+        """the largest |reward| of reward_mode "dense"; "normalized_dense" divides by it (``rewards.py``)"""
         self.drive_config = DriveConfig(
             forward_step=forward_step, turn_step=turn_step, turn_forward_step=turn_forward_step
         )
@@ -218,7 +227,7 @@ class NavEnv(Observations, TopDownView, BaseEnv):
         result = self.outcome()  # evaluate()'s decision, as Python values
         self._reward = R.compute_reward(
             self._reward_mode, prev, self._snapshot, self.reward_params,
-            reached=result["success"], collided=result["collision"],
+            reached=result["success"], collided=result["collision"], bound=self.reward_bound,
         )
         if numpy_obs:
             obs = self._obs_numpy = self.observation_numpy()
@@ -259,9 +268,11 @@ class NavEnv(Observations, TopDownView, BaseEnv):
         self._target_xy = xy
 
     # ------------------------------------------------------------------ sensing
-    def _take_snapshot(self, step: int, contact: Optional[bool], previous: Optional[StepSnapshot]) -> StepSnapshot:
+    def _take_snapshot(
+        self, step: int, contact: Optional[bool], previous: Optional[StepSnapshot], placed: bool = False
+    ) -> StepSnapshot:
         """``contact=None``: after a step, from PhysX's contacts and the footprint's overlap."""
-        return self._sensing.take(step, self._target_xy, self._moving_xy, contact, previous)
+        return self._sensing.take(step, self._target_xy, self._moving_xy, contact, previous, placed)
 
     @property
     def snapshot(self) -> StepSnapshot:
@@ -338,11 +349,18 @@ class NavEnv(Observations, TopDownView, BaseEnv):
         return self._outcome["success"] or self._outcome["collision"]
 
     @property
+    def obstacle_motions(self) -> tuple[EpisodeMotion, ...]:
+        """The moving obstacle groups of this episode, in state-vector order: each one's motion
+        spec, body count and the speed it drew at the reset (read-only copies)."""
+        return tuple(EpisodeMotion.of(mover) for mover, _ in self._movers)
+
+    @property
     def target_index(self) -> int:
         """Which of the world's targets this episode's robot must reach (0-based)."""
         return self._target_index
 
     def get_reward(self, obs, action, info):
+        """The latest step's reward under the task's ``reward_mode``, batched (ManiSkill's API)."""
         return torch.tensor([self._reward], dtype=torch.float32)
 
     def close(self):
@@ -357,7 +375,5 @@ class NavEnv(Observations, TopDownView, BaseEnv):
         path length, no contact: nothing was simulated); returns the state vector."""
         self.agent.set_pose2d(x, y, yaw)
         prev = self.snapshot
-        self._snapshot = replace(
-            self._take_snapshot(step=prev.step, contact=False, previous=None), path_length=prev.path_length
-        )
+        self._snapshot = self._take_snapshot(step=prev.step, contact=False, previous=prev, placed=True)
         return self.state_vector()

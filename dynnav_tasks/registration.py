@@ -8,11 +8,15 @@ task so that:
   task ends its episodes after 200 steps itself, so no ManiSkill time-limit wrapper (which
   gymnasium cannot re-create) is added, and ``env.spec.make()`` re-creates the env, wrappers
   included, when they record their arguments (``wrappers.NumpyWrapper`` does);
-* ``gymnasium.make_vec(id, num_envs=n)`` in any of its modes ("sync", "async", or the default)
-  builds ``n`` plain gymnasium sub-environments (``NumpyWrapper``: numpy, unbatched), so the
-  vector env's observations have shape ``(n, state size)``: a vector env batches its
-  sub-environments itself, and a sub-environment that was batched already would add a
-  second batch axis.
+* ``gymnasium.make_vec(id, num_envs=n)`` (its default mode) calls ``make_vector_task``, which
+  builds ``n`` plain gymnasium sub-environments (``NumpyWrapper``: numpy, unbatched) in a
+  ``SyncVectorEnv``, so the vector env's observations have shape ``(n, state size)``: a vector
+  env batches its sub-environments itself, and a sub-environment that was batched already
+  would add a second batch axis;
+* gymnasium's own modes make each sub-environment with ``gymnasium.make``, the batched one, so
+  they take ``NumpyWrapper`` as their first wrapper::
+
+      gym.make_vec(id, num_envs=n, vectorization_mode="async", wrappers=[dynnav_tasks.NumpyWrapper])
 
 Forking: gymnasium's ``AsyncVectorEnv`` creates one env in the parent process to read the
 spaces, closes it and then forks its workers. A SAPIEN scene that is still waiting for Python's
@@ -25,31 +29,29 @@ from __future__ import annotations
 
 import gc
 import os
-import sys
 from functools import partial
 
 import gymnasium as gym
 from mani_skill.utils.registration import REGISTERED_ENVS
 
-
-def _called_by_make_vec(depth: int = 4) -> bool:
-    """Is this call inside gymnasium's ``make_vec`` making one of its sub-environments?"""
-    frame = sys._getframe(1)
-    for _ in range(depth):
-        frame = frame.f_back
-        if frame is None:
-            return False
-        if frame.f_code.co_name == "create_single_env" and frame.f_globals.get("__name__") == "gymnasium.envs.registration":
-            return True
-    return False
+from .wrappers import NumpyWrapper
 
 
 def make_task(task_id: str, **kwargs) -> gym.Env:
-    """gymnasium's entry point of every dynnav task (see the module docstring)."""
-    from .wrappers import NumpyWrapper
+    """gymnasium's entry point of every dynnav task: the task as ManiSkill makes it."""
+    return REGISTERED_ENVS[task_id].make(**kwargs)
 
-    env = REGISTERED_ENVS[task_id].make(**kwargs)
-    return NumpyWrapper(env) if _called_by_make_vec() else env
+
+def make_vector_task(task_id: str, num_envs: int = 1, **kwargs) -> gym.vector.SyncVectorEnv:
+    """gymnasium's vector entry point of every dynnav task (``make_vec``'s default mode):
+    ``num_envs`` plain sub-environments, ``NumpyWrapper(gymnasium.make(task_id, **kwargs))``."""
+    if isinstance(num_envs, bool) or not isinstance(num_envs, int) or num_envs < 1:
+        raise ValueError(f"num_envs must be a positive integer, got {num_envs!r}")
+    return gym.vector.SyncVectorEnv([partial(_make_plain, task_id, kwargs)] * num_envs)
+
+
+def _make_plain(task_id: str, kwargs: dict) -> gym.Env:
+    return NumpyWrapper(gym.make(task_id, **kwargs))
 
 
 def register_with_gymnasium(task_ids) -> None:
@@ -63,7 +65,7 @@ def register_with_gymnasium(task_ids) -> None:
             disable_env_checker=True,
             kwargs=dict(old.kwargs) if old is not None else {},
             additional_wrappers=(),
-            vector_entry_point=None,  # make_vec's default mode: sync, as for any gymnasium env
+            vector_entry_point=partial(make_vector_task, task_id),
         )
 
 

@@ -1,4 +1,4 @@
-"""The five reward functions of the study, selected with ``reward_mode``.
+"""The reward functions of the study and ManiSkill's reward modes, selected with ``reward_mode``.
 
 Every function reads the snapshots before and after the step (``snapshot.StepSnapshot``:
 only their ``d1``, ``d2`` and ``bearing``) and the task's ``RewardParams``; whether the step
@@ -47,6 +47,39 @@ Readings chosen where the thesis is ambiguous (each is tested in tests/test_rewa
   step, Eq. 4.9 as written does not.
 * A_p: the study says only that the potential "can be adjusted according to the learning
   efficiency"; it is ``potential_target`` (default 1.0), set per experiment in its config.
+
+ManiSkill's reward modes (``MANISKILL_REWARD_MODES``), so that ManiSkill's tools run on the tasks:
+
+======================  ==================================================================
+reward_mode             reward
+======================  ==================================================================
+``dense``               the task's default reward, ``distance_orientation_always`` (Eq. 4.6),
+                        with the task's ``RewardParams``: the same value, step for step
+``normalized_dense``    that reward divided by ``dense_bound``, so every reward is in [-1, 1]
+                        (+1 on reaching the target and -1 on a collision with the defaults)
+``sparse``              the study's own sparse reward (Eq. 3.1, above); ManiSkill's default
+                        sparse reward, ``success - fail``, is the same but for the -0.01 of
+                        every other step: ``reward_params={"sparse_step": 0.0}`` gives it
+                        exactly (a task's ``fail`` is its collision)
+``none``                0 on every step
+======================  ==================================================================
+
+``dense_bound``, the largest |reward| ``dense`` can give: a step that reaches the target
+gives ``reach_reward`` and one that collides ``collision_reward``; any other step gives the
+sum of three terms, each bounded on its own:
+
+* |1 - exp(g d1')| <= |1 - exp(g D)|, D the world's ``World.span()``: the robot's centre and
+  the target both stay in the arena, and 1 - exp(g d) is monotonic in d and 0 at d = 0;
+* |r_o| = | |alpha| - |alpha'| | * |orientation_scale| <= pi * |orientation_scale|, as
+  alpha is in [-pi, pi);
+* |A / d2'| <= |A| / r, r the radius of the largest circle in the robot's footprint (0.19 m):
+  a step that does not collide leaves the footprint clear of every box, so its centre is at
+  least r from each (and the term is 0 when ``obstacle_threshold`` < r).
+
+dense_bound = max(|reach_reward|, |collision_reward|, the sum of the three). With the
+default parameters in the 6.5 m x 6.5 m arena the sum is 5.29 + 3.14 + 2.63 = 11.06, so the
++-20 of reaching and colliding dominate and the bound is 20 (tests/test_reward_modes.py
+drives episodes that reach the target and collide, and checks the bound and the division).
 """
 
 from __future__ import annotations
@@ -65,6 +98,10 @@ REWARD_MODES = (
     "sparse",
 )
 DEFAULT_REWARD_MODE = "distance_orientation_always"
+"""The study's reward of a task made without a ``reward_mode``, and ManiSkill's ``dense``"""
+MANISKILL_REWARD_MODES = ("dense", "normalized_dense", "none")
+"""ManiSkill's names for the default reward, it normalised, and no reward (see above)"""
+SUPPORTED_REWARD_MODES = REWARD_MODES + MANISKILL_REWARD_MODES
 
 
 @dataclass(frozen=True)
@@ -98,6 +135,7 @@ class RewardParams:
 
     @classmethod
     def from_dict(cls, values: dict | None) -> "RewardParams":
+        """The parameters from a dict of overrides; an unknown name is refused with the close matches."""
         values = dict(values or {})
         known = {f.name for f in fields(cls)}
         unknown = sorted(set(values) - known)
@@ -153,24 +191,29 @@ def potential(d1: float, d2: float, p: RewardParams) -> float:
 
 
 def distance(prev: Geometry, cur: Geometry, p: RewardParams) -> float:
+    """Eq. 4.2/4.3: 1 - exp(g d1') [- A / d2' when near]."""
     return _distance_term(cur, p) + _obstacle_term(cur, p)
 
 
 def distance_orientation(prev: Geometry, cur: Geometry, p: RewardParams) -> float:
+    """Eq. 4.5: the obstacle term when near, else the orientation term r_o."""
     if _near(cur.d2, p):
         return _distance_term(cur, p) + _obstacle_term(cur, p)
     return _distance_term(cur, p) + orientation_term(prev, cur, p)
 
 
 def distance_orientation_always(prev: Geometry, cur: Geometry, p: RewardParams) -> float:
+    """Eq. 4.6 (the default, and ManiSkill's ``dense``): 1 - exp(g d1') + r_o [- A / d2' when near]."""
     return _distance_term(cur, p) + orientation_term(prev, cur, p) + _obstacle_term(cur, p)
 
 
 def potential_shaping(prev: Geometry, cur: Geometry, p: RewardParams) -> float:
+    """Eq. 4.8: gamma_p * Phi(s') - Phi(s)."""
     return p.potential_gamma * potential(cur.d1, cur.d2, p) - potential(prev.d1, prev.d2, p)
 
 
 def potential_as_written(prev: Geometry, cur: Geometry, p: RewardParams) -> float:
+    """Eq. 4.9 letter for letter (see the module docstring)."""
     if _near(cur.d2, p):
         return potential_shaping(prev, cur, p)
     return p.potential_gamma * (p.potential_target / cur.d1 - p.potential_target / prev.d1)
@@ -183,15 +226,37 @@ _SHAPED = {
     "potential": potential_shaping,
     "potential_as_written": potential_as_written,
 }
+_SHAPED["dense"] = _SHAPED[DEFAULT_REWARD_MODE]
+
+
+def dense_bound(p: RewardParams, span: float, clearance: float) -> float:
+    """The largest |reward| of ``dense`` (see the module docstring): ``span`` bounds the
+    robot's distance to the target (m), ``clearance`` the distance from its centre to any
+    obstacle box on a step without collision (m, > 0)."""
+    if not (span >= 0 and clearance > 0):
+        raise ValueError(f"dense_bound needs span >= 0 and clearance > 0, got {span!r} and {clearance!r}")
+    shaping = abs(1.0 - math.exp(p.distance_gamma * span)) + math.pi * abs(p.orientation_scale)
+    if p.obstacle_threshold >= clearance:
+        shaping += abs(p.obstacle_scale) / clearance
+    return max(abs(p.reach_reward), abs(p.collision_reward), shaping)
 
 
 def compute_reward(
-    mode: str, prev: Geometry, cur: Geometry, p: RewardParams, *, reached: bool, collided: bool
+    mode: str, prev: Geometry, cur: Geometry, p: RewardParams, *, reached: bool, collided: bool,
+    bound: float | None = None,
 ) -> float:
     """The reward of the step from snapshot ``prev`` to snapshot ``cur`` under ``mode``.
 
-    ``reached`` and ``collided`` are the step's outcome as ``NavEnv.evaluate`` decided it.
+    ``reached`` and ``collided`` are the step's outcome as ``NavEnv.evaluate`` decided it;
+    ``bound``: ``dense_bound`` of the task, which ``normalized_dense`` divides by.
     """
+    if mode == "none":
+        return 0.0
+    if mode == "normalized_dense":
+        if bound is None:
+            raise ValueError("reward_mode 'normalized_dense' needs the task's bound: pass bound=dense_bound(...)")
+        dense = compute_reward("dense", prev, cur, p, reached=reached, collided=collided)
+        return dense / bound if bound > 0 else 0.0  # a bound of 0: every dense reward is 0
     if mode == "sparse":
         return p.sparse_collision if collided else p.sparse_reach if reached else p.sparse_step
     if collided:

@@ -32,6 +32,8 @@ from mani_skill.agents.base_agent import BaseAgent
 from mani_skill.agents.controllers.base_controller import BaseController, ControllerConfig
 from mani_skill.agents.registration import register_agent
 
+from .maniskill_adapter import sapien_object
+
 ASSET_DIR = Path(__file__).resolve().parent.parent / "assets" / "diffbot"
 BASE_JOINTS = ["root_x_axis_joint", "root_y_axis_joint", "root_z_rotation_joint"]
 ACTION_NAMES = ("forward", "left", "right")
@@ -123,8 +125,8 @@ class DiscreteDriveController(BaseController):
 
     def _initialize_action_space(self):
         self.single_action_space = spaces.Discrete(len(ACTION_NAMES))
-        self._px_art = self.articulation._objs[0]
-        self._px_joints = [joint._objs[0] for joint in self.joints]  # ManiSkill resolved the names
+        self._px_art = sapien_object(self.articulation)
+        self._px_joints = [sapien_object(joint) for joint in self.joints]  # ManiSkill resolved the names
         self._dof_index = [int(i) for i in self.active_joint_indices]
         self._dof = self._px_art.dof
         self._qvel = np.zeros(self._dof, dtype=np.float32)
@@ -198,10 +200,10 @@ class DiffBot(BaseAgent):
 
     def pose2d(self) -> np.ndarray:
         """(x, y, yaw) of the chassis in the world, as numpy."""
-        return np.asarray(self.robot._objs[0].get_qpos()[:3], dtype=np.float64)
+        return np.asarray(sapien_object(self.robot).get_qpos()[:3], dtype=np.float64)
 
     def set_pose2d(self, x: float, y: float, yaw: float) -> None:
         """Place the robot at (x, y) facing ``yaw`` (radians), at rest."""
-        art = self.robot._objs[0]
+        art = sapien_object(self.robot)
         art.set_qpos(np.array([x, y, yaw], dtype=np.float32))
         art.set_qvel(np.zeros(3, dtype=np.float32))

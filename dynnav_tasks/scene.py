@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 import sapien
 
+from .maniskill_adapter import physx_body, sapien_object
 from .motion import Mover
 from .world import FLOOR_COLOR, MOVING_OBSTACLE_COLOR, STATIC_OBSTACLE_COLOR, TARGET_COLOR, WALL_COLORS, World
 
@@ -101,7 +102,7 @@ def build_world(scene, world: World) -> BuiltWorld:
         for i in range(group.count):
             actor = _box(scene, f"obstacle{g}_{i}", start[i], group.half_size, group.height, color, group.moving)
             if group.moving:
-                bodies.append(actor._bodies[0])
+                bodies.append(physx_body(actor))
                 moving_z.append(group.height / 2)
                 moving_half.append(group.half_size)
             else:
@@ -131,7 +132,7 @@ def build_world(scene, world: World) -> BuiltWorld:
                 material=_material(TARGET_COLOR),
             )
         b.initial_pose = sapien.Pose([*spec.extent()[0], HIDDEN_Z])
-        targets.append((spec.mover(), b.build_kinematic(f"target{t}")._objs[0]))
+        targets.append((spec.mover(), sapien_object(b.build_kinematic(f"target{t}"))))
 
     return BuiltWorld(
         movers=movers,

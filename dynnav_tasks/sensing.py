@@ -21,6 +21,7 @@ from typing import Optional
 import numpy as np
 
 from .lasers import LaserRing
+from .maniskill_adapter import sapien_object
 from .robot import FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH, LASER_HEIGHT
 from .snapshot import StepSnapshot, footprint_overlaps, snapshot_of
 
@@ -51,8 +52,9 @@ class Sensing:
         self.px = px
         self.lasers = LaserRing(px, FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH, LASER_HEIGHT)
         self.collision_margin = collision_margin
-        self._art = robot._objs[0]
-        self._robot_bodies = frozenset(link._objs[0] for link in robot.links if link._objs[0].collision_shapes)
+        self._art = sapien_object(robot)
+        links = [sapien_object(link) for link in robot.links]
+        self._robot_bodies = frozenset(link for link in links if link.collision_shapes)
         half = np.array(obstacle_half, dtype=np.float64).reshape(-1, 2)
         static = np.array(static_xy, dtype=np.float64).reshape(-1, 2)
         n = len(static)
@@ -88,9 +90,10 @@ class Sensing:
         moving_xy: np.ndarray,
         contact: Optional[bool],
         previous: Optional[StepSnapshot],
+        placed: bool = False,
     ) -> StepSnapshot:
         """The snapshot of the scene now; ``contact=None``: after a step, from PhysX's contacts
-        and the footprint's overlap."""
+        and the footprint's overlap; ``placed``: see ``snapshot.snapshot_of``."""
         x, y, yaw = pose = self.pose()
         moving = [(*p, *h) for p, h in zip(moving_xy.tolist(), self._moving_half)]
         if contact is None:
@@ -110,4 +113,5 @@ class Sensing:
             boxes=self._static_boxes + moving,
             contact=contact,
             previous=previous,
+            placed=placed,
         )

@@ -174,18 +174,22 @@ def snapshot_of(
     boxes,
     contact: bool,
     previous: StepSnapshot | None,
+    placed: bool = False,
 ) -> StepSnapshot:
     """The one function that makes a ``StepSnapshot``: derives d1, d2, the bearing and the
     path length. ``step`` is an int and ``pose`` a tuple of Python floats; the arrays are
     kept as given: read-only arrays nothing else writes to (``take_snapshot`` makes them
     from plain values); ``boxes`` lists ``obstacle_xy`` and ``obstacle_half`` as
-    (cx, cy, hx, hy) rows of Python floats."""
+    (cx, cy, hx, hy) rows of Python floats.
+
+    ``placed``: the robot was put where it is (``NavEnv.place_robot``), not driven there, so
+    the path length stays ``previous``'s instead of growing by the distance between them."""
     x, y, yaw = pose
     tx, ty = target_xy.tolist()
     path = 0.0
     if previous is not None:
         px, py, _ = previous.pose
-        path = previous.path_length + math.hypot(x - px, y - py)
+        path = previous.path_length if placed else previous.path_length + math.hypot(x - px, y - py)
     snapshot = object.__new__(StepSnapshot)  # the frozen dataclass's fields, set without its slower __init__
     snapshot.__dict__.update(
         step=step,

@@ -11,13 +11,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Union
 
 import numpy as np
 
-from .motion import BackAndForth, RandomInRect, Route, Static
+from .motion import Motion, Static
 
-Motion = Union[Static, BackAndForth, Route, RandomInRect]
 RGBA = tuple[float, float, float, float]
 
 # The palette, as every camera sees it (sRGB, 0-1): ``scene.py`` lights the scene evenly, so a
@@ -136,6 +134,20 @@ class World:
         for t in self.targets:
             if t.count != 1:
                 raise ValueError(f"each target moves one body; got count={t.count} in {t}")
+
+    def span(self) -> float:
+        """Diagonal of the smallest rectangle holding the arena, the start area and every
+        target's motion (m): no distance from the robot's centre to the target exceeds it."""
+        lows = [np.array([self.arena.x_range[0], self.arena.y_range[0]]),
+                np.array([self.start.x_range[0], self.start.y_range[0]])]
+        highs = [np.array([self.arena.x_range[1], self.arena.y_range[1]]),
+                 np.array([self.start.x_range[1], self.start.y_range[1]])]
+        for target in self.targets:
+            low, high = target.extent()
+            lows.append(np.asarray(low, dtype=np.float64))
+            highs.append(np.asarray(high, dtype=np.float64))
+        size = np.max(highs, axis=0) - np.min(lows, axis=0)
+        return float(math.hypot(*size))
 
     @property
     def moving_obstacle_count(self) -> int:

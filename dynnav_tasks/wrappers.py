@@ -1,11 +1,12 @@
-"""Observation wrappers for the camera worlds (thesis Sec. 4.3, Table 5.4).
+"""``NumpyWrapper`` (a task in the plain gymnasium API) and the camera worlds' observation
+wrappers (thesis Sec. 4.3, Table 5.4).
 
-Both work on a task wrapped for plain gymnasium use (``CPUGymWrapper``: numpy, unbatched)
-made with ``obs_mode="rgb"`` (observations are images) or ``obs_mode="rgb+state"``
+Both work on a task wrapped for plain gymnasium use (``NumpyWrapper``, below: numpy,
+unbatched) made with ``obs_mode="rgb"`` (observations are images) or ``obs_mode="rgb+state"``
 (observations are ``{"rgb": image, "state": vector}``, the thesis's image + lasers +
 positions)::
 
-    env = CPUGymWrapper(dynnav_tasks.make("DynNav-VisualMovingTargets-v1", obs_mode="rgb"))
+    env = NumpyWrapper(dynnav_tasks.make("DynNav-VisualMovingTargets-v1", obs_mode="rgb"))
     env = GrayFrameStack(env, num_frames=4)   # observations: uint8 (32, 32, 4)
 """
 

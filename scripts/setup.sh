@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Create or refresh .venv: a CPU build of torch first, then dynnav; then make sure SAPIEN can
-# render (installing Mesa's lavapipe from bookworm-backports when run as root).
+# Create or refresh .venv: a CPU build of torch first, then dynnav with its test and docs
+# extras; then make sure SAPIEN can render (installing Mesa's lavapipe from bookworm-backports
+# when run as root).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -35,7 +36,7 @@ fi
 if [ ! -f "$STAMP" ] || [ pyproject.toml -nt "$STAMP" ]; then
   "$VENV/bin/python" -m pip install -q --upgrade pip
   "$VENV/bin/python" -m pip install -q torch==2.13.0
-  "$VENV/bin/python" -m pip install -q -e ".[test]"
+  "$VENV/bin/python" -m pip install -q -e ".[test,docs]"
   rm -f "$VENV/.dynnav-vulkan-ok"
   touch "$STAMP"
 fi

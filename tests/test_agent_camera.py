@@ -16,7 +16,7 @@ from agents.training.config import Config
 from agents.training.config_io import make, replace
 from agents.training.envs import frame_key
 from agents.training.test_phase import evaluate
-from agents.core.policy import load_policy
+from agents.training.policy_loading import load_policy
 from agents.srl.state_representation import SRLSettings
 
 CASES = {

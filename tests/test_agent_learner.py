@@ -8,9 +8,9 @@ import pytest
 import torch
 from torch import nn
 
-from agents.core.learner import Batch, DQNLearner
+from agents.core.learner import DQNLearner
 from agents.core.networks import MLPQNetwork, PixelQNetwork, check_q_network, dueling_mlp, random_shift
-from agents.core.replay import ReplayMemory
+from agents.core.replay import Batch, ReplayMemory
 
 OBS, ACTIONS, BATCH = 24, 3, 128
 

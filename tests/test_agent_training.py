@@ -17,7 +17,7 @@ from agents.training.config_io import load_yaml, make
 from agents.dqn import main, train
 from agents.training.test_phase import evaluate
 from agents.core.networks import MLPQNetwork
-from agents.core.policy import load_policy
+from agents.training.policy_loading import load_policy
 from agents.training.stats import wilson_interval
 
 TIMING = {"steps_per_s", "wall_time_s"}

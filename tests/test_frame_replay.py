@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from agents.core.frame_replay import FrameReplay
-from agents.core.learner import Batch
+from agents.core.replay import Batch
 
 
 def frame(v: int) -> np.ndarray:

@@ -1,5 +1,5 @@
-"""gymnasium's own tools on the tasks: make_vec, AsyncVectorEnv with every start method, and
-the batched ManiSkill API beside the plain one."""
+"""gymnasium's own tools on the tasks: make_vec, AsyncVectorEnv with every start method,
+check_env with ManiSkill's reward modes, and the batched ManiSkill API beside the plain one."""
 
 import multiprocessing
 
@@ -7,6 +7,7 @@ import gymnasium as gym
 import numpy as np
 import pytest
 import torch
+from gymnasium.utils.env_checker import check_env
 from mani_skill.utils.wrappers.gymnasium import CPUGymWrapper
 
 import dynnav_tasks
@@ -14,9 +15,11 @@ import dynnav_tasks
 TASK = "DynNav-MovingTarget-v1"  # state size 20
 
 
-@pytest.mark.parametrize("mode", ["async", "sync", None])
+@pytest.mark.parametrize("mode", [None, "sync", "async"])
 def test_make_vec_batches_plain_sub_environments(mode):
-    env = gym.make_vec(TASK, num_envs=2, vectorization_mode=mode)
+    """The default mode wraps its sub-environments itself; gymnasium's own modes are told to."""
+    extra = {} if mode is None else dict(vectorization_mode=mode, wrappers=[dynnav_tasks.NumpyWrapper])
+    env = gym.make_vec(TASK, num_envs=2, **extra)
     try:
         obs, info = env.reset(seed=0)
         assert obs.shape == (2, 20) and obs.dtype == np.float32
@@ -34,8 +37,24 @@ def test_make_vec_batches_plain_sub_environments(mode):
         env.close()
 
 
-def _make_cpu_wrapped():
-    return CPUGymWrapper(gym.make(TASK))
+def test_make_vec_passes_task_arguments_and_recreates_from_its_spec():
+    env = gym.make_vec(TASK, num_envs=3, reward_mode="sparse")
+    try:
+        assert env.num_envs == 3
+        env.reset(seed=1)
+        _, reward, *_ = env.step(np.array([1, 1, 1]))  # turning in place: neither end of the episode
+        np.testing.assert_array_equal(reward, [-0.01] * 3)
+        again = gym.make_vec(env.spec)
+        assert again.num_envs == 3 and again.observation_space == env.observation_space
+        again.close()
+    finally:
+        env.close()
+    with pytest.raises(ValueError, match="num_envs must be a positive integer"):
+        gym.make_vec(TASK, num_envs=0)
+
+
+def _make_plain():
+    return dynnav_tasks.NumpyWrapper(gym.make(TASK))
 
 
 @pytest.mark.parametrize("context", ["fork", "forkserver", "spawn"])
@@ -44,7 +63,7 @@ def test_async_vector_env_with_every_start_method(context):
     workers: with fork they inherit this process, which must not hold a dying SAPIEN scene."""
     if context not in multiprocessing.get_all_start_methods():
         pytest.skip(f"{context} is not available here")
-    env = gym.vector.AsyncVectorEnv([_make_cpu_wrapped, _make_cpu_wrapped], context=context)
+    env = gym.vector.AsyncVectorEnv([_make_plain, _make_plain], context=context)
     try:
         obs, _ = env.reset(seed=[3, 4])
         assert obs.shape == (2, 20)
@@ -67,7 +86,19 @@ def test_the_batched_maniskill_api_still_works():
         env.close()
 
 
+@pytest.mark.parametrize("reward_mode", ["dense", "normalized_dense"])
+def test_check_env_passes_with_maniskills_reward_modes(reward_mode):
+    """ManiSkill's tools make tasks with reward_mode "dense" or "normalized_dense"."""
+    env = dynnav_tasks.NumpyWrapper(gym.make(TASK, reward_mode=reward_mode))
+    try:
+        check_env(env, skip_render_check=True)
+        assert env.unwrapped.reward_mode == reward_mode
+    finally:
+        env.close()
+
+
 def test_numpy_wrapper_matches_cpu_gym_wrapper():
+    """ManiSkill's own CPUGymWrapper still works on a task, with the same results."""
     a, b = dynnav_tasks.NumpyWrapper(gym.make(TASK)), CPUGymWrapper(gym.make(TASK))
     try:
         assert a.observation_space == b.observation_space and a.action_space == b.action_space

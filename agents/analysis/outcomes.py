@@ -35,9 +35,9 @@ def standing_still(trajectory: list | None, steps: int = STILL_STEPS, tolerance:
 
 def route_speed(env) -> float | None:
     """The episode's obstacle speed (m per step) when the task's moving obstacles follow a route."""
-    from dynnav_tasks.motion import _RouteMover
+    from dynnav_tasks.motion import Route
 
-    speeds = [m.speed for m, _ in env.unwrapped._movers if isinstance(m, _RouteMover)]
+    speeds = [m.speed for m in env.unwrapped.obstacle_motions if isinstance(m.motion, Route)]
     return max(speeds) if speeds else None
 
 

@@ -23,7 +23,7 @@ from typing import Callable
 
 import numpy as np
 
-from agents.core.learner import Batch
+from agents.core.replay import Batch
 
 
 class FrameReplay:
@@ -54,6 +54,7 @@ class FrameReplay:
 
     @property
     def nbytes(self) -> int:
+        """Bytes held by the memory's arrays."""
         arrays = (self.frames, self.states, self.latents, self.actions, self.rewards, self.not_done, self.has_next)
         return int(sum(a.nbytes for a in arrays))
 
@@ -146,6 +147,7 @@ class FrameReplay:
                     latent_dim=self.latent_dim, pos=self.pos, size=n, last=self.last, **arrays)
 
     def load_state_dict(self, state: dict) -> None:
+        """Restore what ``state_dict`` saved; ValueError if the sizes differ from this memory's."""
         theirs = (state["capacity"], tuple(state["frame_shape"]), state["state_dim"], state["latent_dim"])
         ours = (self.capacity, self.frame_shape, self.state_dim, self.latent_dim)
         if theirs != ours:

@@ -17,38 +17,16 @@ for pixel runs), each with a leading batch dimension, and returns (batch, action
 from __future__ import annotations
 
 import copy
-from typing import Sequence
 
 import numpy as np
 import torch
 from torch import nn
 from torch.nn import functional as F
 
+from agents.core.networks import q_values_of
+from agents.core.replay import Batch
+
 LOSSES = ("mse", "huber")
-
-
-class Batch:
-    """Preallocated minibatch tensors, with numpy views (``obs``, ``actions``, ...) that the replay
-    memories fill in place.
-
-    ``inputs`` lists each input's (shape, numpy dtype) without the batch dimension: one float32
-    vector for state runs, a uint8 frame and float32 state parts for pixel runs."""
-
-    def __init__(self, batch_size: int, inputs: Sequence[tuple[tuple[int, ...], type]]):
-        self.size = int(batch_size)
-        self.inputs = [(tuple(int(v) for v in shape), np.dtype(dtype)) for shape, dtype in inputs]
-
-        def new(shape, dtype):
-            return torch.from_numpy(np.zeros((self.size, *shape), dtype=dtype))
-
-        self.obs_t = [new(s, d) for s, d in self.inputs]
-        self.next_obs_t = [new(s, d) for s, d in self.inputs]
-        self.actions_t, self.rewards_t, self.not_done_t = new((), np.int64), new((), np.float32), new((), np.float32)
-        self.obs = [t.numpy() for t in self.obs_t]
-        self.next_obs = [t.numpy() for t in self.next_obs_t]
-        self.actions, self.rewards = self.actions_t.numpy(), self.rewards_t.numpy()
-        self.not_done = self.not_done_t.numpy()
-        """1 - terminated: a truncated (timed-out) transition still bootstraps"""
 
 
 def make_adam(module: nn.Module, learning_rate: float) -> torch.optim.Adam:
@@ -81,22 +59,19 @@ class DQNLearner:
 
     @property
     def learning_rate(self) -> float:
+        """Adam's current learning rate (set once per episode by the schedule)."""
         return float(self.optimizer.param_groups[0]["lr"])
 
     @learning_rate.setter
     def learning_rate(self, value: float) -> None:
+        """Adam's current learning rate (set once per episode by the schedule)."""
         for group in self.optimizer.param_groups:
             group["lr"] = float(value)
 
     # ------------------------------------------------------------------ acting
     def q_values(self, x) -> np.ndarray:
         """Q-values (actions,) of one observation's input (an array, or a tuple of arrays)."""
-        inputs = x if isinstance(x, tuple) else (x,)
-        if self.q.training:
-            self.q.eval()
-        with torch.inference_mode():
-            tensors = [torch.as_tensor(np.asarray(v))[None].to(self.device) for v in inputs]
-            return self.q(*tensors)[0].float().cpu().numpy()
+        return q_values_of(self.q, x, self.device)
 
     def act(self, x) -> int:
         """The greedy action for one observation's input."""
@@ -148,9 +123,11 @@ class DQNLearner:
 
     # ------------------------------------------------------------------ checkpoints
     def state_dict(self) -> dict:
+        """Online and target networks and Adam's state, for a checkpoint."""
         return dict(q=self.q.state_dict(), target=self.target.state_dict(), optimizer=self.optimizer.state_dict())
 
     def load_state_dict(self, state: dict) -> None:
+        """Restore what ``state_dict`` saved; ValueError if the networks do not fit."""
         try:
             self.q.load_state_dict(state["q"])
             self.target.load_state_dict(state["target"])

@@ -17,6 +17,7 @@ from __future__ import annotations
 import importlib
 from typing import Callable, Sequence
 
+import numpy as np
 import torch
 from torch import nn
 from torch.nn import functional as F
@@ -40,9 +41,11 @@ class MLPQNetwork(nn.Module):
 
     @property
     def linears(self) -> list[nn.Linear]:
+        """The linear layers, input to output."""
         return [m for m in self.layers if isinstance(m, nn.Linear)]
 
     def forward(self, x: torch.Tensor) -> torch.Tensor:
+        """Q-values (batch, actions) of a batch of inputs."""
         return self.layers(x)
 
 
@@ -58,6 +61,7 @@ class DuelingMLP(nn.Module):
         self.advantage = nn.Sequential(nn.Linear(hidden, hidden), nn.ReLU(), nn.Linear(hidden, n_actions))
 
     def forward(self, x: torch.Tensor) -> torch.Tensor:
+        """Q-values (batch, actions) of a batch of inputs."""
         h = self.trunk(x)
         a = self.advantage(h)
         return self.value(h) + a - a.mean(dim=1, keepdim=True)
@@ -106,6 +110,7 @@ class PixelQNetwork(nn.Module):
         self.head = MLPQNetwork(dense + int(state_dim), n_actions, (hidden,))
 
     def forward(self, frames: torch.Tensor, state: torch.Tensor | None = None) -> torch.Tensor:
+        """Q-values (batch, actions) of a batch of inputs."""
         x = frames.permute(0, 3, 1, 2).float().div(255.0)
         if self.training and self.shift > 0:
             x = random_shift(x, self.shift)
@@ -148,3 +153,15 @@ def check_q_network(module: nn.Module, input_shapes: list[tuple[int, ...]], inpu
         shape = tuple(out.shape) if isinstance(out, torch.Tensor) else type(out).__name__
         raise ValueError(f"{source}: expected Q-values of shape (batch, {n_actions}), got {shape}")
     return module
+
+
+def q_values_of(module: nn.Module, x, device: torch.device | str = "cpu") -> np.ndarray:
+    """Q-values (actions,) of one observation's input ``x`` (an array, or a tuple of arrays for a
+    network with several inputs), as a numpy array; ``module`` is switched to evaluation mode (no
+    random shifts). The one way the learner and trained policies compute them."""
+    inputs = x if isinstance(x, tuple) else (x,)
+    if module.training:
+        module.eval()
+    with torch.inference_mode():
+        tensors = [torch.as_tensor(np.asarray(v))[None].to(device) for v in inputs]
+        return module(*tensors)[0].float().cpu().numpy()

@@ -1,19 +1,17 @@
-"""Q-networks built from a run's config, and trained policies loaded from checkpoints."""
+"""Q-networks built from a run's config, and a trained policy: a Q-network with the features
+that turn observations into its inputs (``agents.training.policy_loading.load_policy`` loads
+one from a checkpoint)."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Optional
 
 import numpy as np
 import torch
 from torch import nn
 
-from agents.training import checkpoint as ckpt
-from agents.training.config_io import config_from_dict
-from agents.training.envs import make_env_from
-from agents.core.networks import MLPQNetwork, PixelQNetwork, check_q_network, load_factory
+from agents.core.networks import MLPQNetwork, PixelQNetwork, check_q_network, load_factory, q_values_of
 
 
 def build_q_network(config, input_specs, n_actions: int) -> nn.Module:
@@ -41,47 +39,25 @@ class Policy:
     """A trained Q-network with the features that turn observations into its inputs."""
 
     config: object
+    """the run's resolved config"""
     env: object
     features: object
     q_network: nn.Module
     path: Path
+    """the checkpoint folder"""
     state: dict
+    """the checkpoint's state without its replay memory"""
 
     @property
     def device(self) -> torch.device:
+        """Where the Q-network's parameters live."""
         return next(self.q_network.parameters()).device
 
     def q_values(self, obs) -> np.ndarray:
-        x = self.features(obs)
-        inputs = x if isinstance(x, tuple) else (x,)
-        with torch.no_grad():
-            tensors = [torch.as_tensor(np.asarray(v))[None].to(self.device) for v in inputs]
-            return self.q_network(*tensors)[0].float().cpu().numpy()
+        """Q-values (actions,) of an environment observation."""
+        return q_values_of(self.q_network, self.features(obs), self.device)
 
     @property
     def views(self):
         """obs -> the auto-encoder's latent and reconstruction (camera latent runs), else None."""
         return getattr(self.features, "views", None)
-
-
-def load_policy(checkpoint_path, device: Optional[str] = None, **task_kwargs) -> Policy:
-    """The greedy policy of a checkpoint, with its own task and settings (``task_kwargs`` are
-    added to the task's own, e.g. obs_mode for recordings)."""
-    from agents.training.experience import make_features, new_state_representation
-
-    path = ckpt.resolve(checkpoint_path)
-    state = ckpt.load(path, memory=False)
-    config = config_from_dict(state["config"], source=f"config in {path / ckpt.META}")
-    env = make_env_from(config, **task_kwargs)
-    srl = None
-    if config.camera.camera_frames and config.camera.camera_input == "latent":
-        srl = new_state_representation(env, config)
-        srl.load_state_dict(state["srl"])
-    features = make_features(env, config, srl)
-    net = build_q_network(config, features.input_specs, int(env.action_space.n))
-    try:
-        net.load_state_dict(state["learner"]["q"])
-    except RuntimeError as err:
-        raise ckpt.CheckpointError(f"{path}: the saved Q-network does not fit the one its config builds: {err}") from err
-    net.to(device or config.run.device).eval()
-    return Policy(config, env, features, net, path, state)

@@ -1,10 +1,37 @@
-"""Replay memory: preallocated numpy arrays used as a ring buffer of transitions."""
+"""Replay memory: preallocated numpy arrays used as a ring buffer of transitions, and the
+minibatch (``Batch``) that the replay memories fill and the learner (``agents.core.learner``)
+trains on. The learner uses the buffers; the buffers never use the learner."""
 
 from __future__ import annotations
 
-import numpy as np
+from typing import Sequence
 
-from agents.core.learner import Batch
+import numpy as np
+import torch
+
+
+class Batch:
+    """Preallocated minibatch tensors, with numpy views (``obs``, ``actions``, ...) that the replay
+    memories fill in place.
+
+    ``inputs`` lists each input's (shape, numpy dtype) without the batch dimension: one float32
+    vector for state runs, a uint8 frame and float32 state parts for pixel runs."""
+
+    def __init__(self, batch_size: int, inputs: Sequence[tuple[tuple[int, ...], type]]):
+        self.size = int(batch_size)
+        self.inputs = [(tuple(int(v) for v in shape), np.dtype(dtype)) for shape, dtype in inputs]
+
+        def new(shape, dtype):
+            return torch.from_numpy(np.zeros((self.size, *shape), dtype=dtype))
+
+        self.obs_t = [new(s, d) for s, d in self.inputs]
+        self.next_obs_t = [new(s, d) for s, d in self.inputs]
+        self.actions_t, self.rewards_t, self.not_done_t = new((), np.int64), new((), np.float32), new((), np.float32)
+        self.obs = [t.numpy() for t in self.obs_t]
+        self.next_obs = [t.numpy() for t in self.next_obs_t]
+        self.actions, self.rewards = self.actions_t.numpy(), self.rewards_t.numpy()
+        self.not_done = self.not_done_t.numpy()
+        """1 - terminated: a truncated (timed-out) transition still bootstraps"""
 
 
 class ReplayMemory:
@@ -58,6 +85,7 @@ class ReplayMemory:
         )
 
     def load_state_dict(self, state: dict) -> None:
+        """Restore what ``state_dict`` saved; ValueError if the sizes differ from this memory's."""
         if (state["capacity"], state["obs_dim"]) != (self.capacity, self.obs_dim):
             raise ValueError(
                 f"checkpoint replay memory holds {state['capacity']} x {state['obs_dim']} transitions, "

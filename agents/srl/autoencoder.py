@@ -63,6 +63,9 @@ STACKED_GRAY = AutoEncoderSpec(in_channels=4, conv_channels=(64, 128), latent=15
 
 
 class ConvAutoEncoder(nn.Module):
+    """Two stride-2 convolutions and two dense layers down to the latent vector, and the mirror
+    image back up to the frame (sigmoid output in [0, 1]), sized by an ``AutoEncoderSpec``."""
+
     def __init__(self, spec: AutoEncoderSpec = SINGLE_RGB):
         super().__init__()
         self.spec = spec
@@ -96,6 +99,7 @@ class ConvAutoEncoder(nn.Module):
         return torch.from_numpy(np.ascontiguousarray(x)).permute(0, 3, 1, 2).float().div_(255.0)
 
     def forward(self, x: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+        """The latent vectors and the reconstructions of a batch of frames (B, C, H, W) in [0, 1]."""
         z = self.encoder(x)
         return z, self.decoder(z)
 
@@ -150,6 +154,7 @@ class RareColourWeights:
         return q  # (B, H, W, C): each gray value on its own
 
     def fit(self, frames: np.ndarray) -> "RareColourWeights":
+        """Measure how often each colour bin occurs in ``frames``; rarer bins weigh more."""
         bins = self._bins(frames)
         freq = np.bincount(bins.ravel(), minlength=self.levels ** 3) / bins.size  # room for RGB's bins
         seen = freq > 0
@@ -176,6 +181,7 @@ class AutoEncoderTrainer:
         self.optimizer = torch.optim.Adam(model.parameters(), lr=lr)
 
     def train_batch(self, frames: np.ndarray, weights: RareColourWeights | None = None) -> float:
+        """One Adam step on a batch of uint8 frames; returns its reconstruction loss."""
         self.model.train()
         x = self.model.to_input(frames)
         _, y = self.model(x)
@@ -187,8 +193,10 @@ class AutoEncoderTrainer:
         return loss.item()
 
     def state_dict(self) -> dict:
+        """The model's and its optimizer's state, for a checkpoint."""
         return {"model": self.model.state_dict(), "optimizer": self.optimizer.state_dict()}
 
     def load_state_dict(self, state: dict) -> None:
+        """Restore what ``state_dict`` saved."""
         self.model.load_state_dict(state["model"])
         self.optimizer.load_state_dict(state["optimizer"])

@@ -11,20 +11,18 @@
 from __future__ import annotations
 
 import csv
+import io
 from pathlib import Path
 
 import numpy as np
+
+from agents.files import atomic_write_bytes, save_figure
 
 
 def _save_png(fig_or_image, path: Path) -> None:
     """Save a matplotlib figure or a PIL image to ``path`` atomically."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.tmp.png")
-    if hasattr(fig_or_image, "savefig"):
-        fig_or_image.savefig(tmp)
-    else:
-        fig_or_image.save(tmp)
-    tmp.replace(path)
+    save_figure(fig_or_image, path)
 
 
 def _tile(frame: np.ndarray) -> np.ndarray:
@@ -47,6 +45,7 @@ def pair_image(frames: np.ndarray, reconstructions: np.ndarray, scale: int = 4, 
 
 
 def save_reconstruction_pairs(frames: np.ndarray, reconstructions: np.ndarray, path: Path) -> None:
+    """Save frames above their reconstructions as one PNG at ``path``."""
     from PIL import Image
 
     _save_png(Image.fromarray(pair_image(frames, reconstructions)), Path(path))
@@ -55,15 +54,18 @@ def save_reconstruction_pairs(frames: np.ndarray, reconstructions: np.ndarray, p
 def append_srl_losses(path: Path, update: int, episode: int, losses: list[float]) -> None:
     """Add one row per iteration: update number, episode, iteration, mean loss of its batches."""
     path = Path(path)
-    new = not path.exists()
-    with open(path, "a", newline="") as f:
-        writer = csv.writer(f, lineterminator="\n")
-        if new:
-            writer.writerow(["update", "episode", "iteration", "loss"])
-        writer.writerows([update, episode, i + 1, f"{loss:.6g}"] for i, loss in enumerate(losses))
+    out = io.StringIO()
+    writer = csv.writer(out, lineterminator="\n")
+    if path.exists():
+        out.write(path.read_text())
+    else:
+        writer.writerow(["update", "episode", "iteration", "loss"])
+    writer.writerows([update, episode, i + 1, f"{loss:.6g}"] for i, loss in enumerate(losses))
+    atomic_write_bytes(path, out.getvalue().encode())
 
 
 def plot_srl_losses(csv_path: Path, png_path: Path, title: str = "") -> None:
+    """Draw the losses of ``csv_path`` (``append_srl_losses``), one curve per update, to ``png_path``."""
     import matplotlib
 
     matplotlib.use("Agg")

@@ -57,6 +57,7 @@ class SRLSettings:
 
     @classmethod
     def from_config(cls, config, image_size: int = 32) -> "SRLSettings":
+        """The settings of a run's config, for frames of ``image_size`` pixels."""
         c = config.camera
         d = SINGLE_FRAME_DEFAULTS if c.camera_frames == 1 else STACK_DEFAULTS
         channels = 3 if c.camera_frames == 1 else c.camera_frames
@@ -92,6 +93,7 @@ class StateRepresentation:
 
     @property
     def latent_dim(self) -> int:
+        """Length of the latent vector."""
         return self.settings.spec.latent
 
     @property
@@ -108,6 +110,7 @@ class StateRepresentation:
         return ((self.model.encode(frames) - self.mean) / self.std).astype(np.float32)
 
     def reconstruct(self, frames: np.ndarray) -> np.ndarray:
+        """The auto-encoder's uint8 reconstructions of uint8 frames."""
         return self.model.reconstruct(frames)
 
     def update(self, replay, rng: np.random.Generator, progress: bool = False) -> list[float]:
@@ -144,10 +147,12 @@ class StateRepresentation:
         return losses
 
     def state_dict(self) -> dict:
+        """The auto-encoder, its optimizer and its update count, for a checkpoint."""
         return dict(trainer=self.trainer.state_dict(), updates_done=self.updates_done,
                     mean=self.mean.copy(), std=self.std.copy(), spec=dataclasses.asdict(self.settings.spec))
 
     def load_state_dict(self, state: dict) -> None:
+        """Restore what ``state_dict`` saved."""
         spec = dict(state["spec"], conv_channels=tuple(state["spec"]["conv_channels"]))
         if AutoEncoderSpec(**spec) != self.settings.spec:
             raise ValueError(f"checkpoint auto-encoder is {state['spec']}, this run's {self.settings.spec}")

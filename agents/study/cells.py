@@ -4,7 +4,7 @@
   experiment and its named variants, beside the planner's ceiling;
 * the rows whose 95% interval over seeds is wider than MAX_WIDTH, with the seeds that would
   narrow it;
-* the configs with fewer than MIN_SEEDS finished seeds.
+* the configs with fewer than MIN_SEEDS runs in the table.
 """
 
 from __future__ import annotations
@@ -26,6 +26,7 @@ MAX_WIDTH = 0.20
 
 
 def t975(df: int) -> float:
+    """The t distribution's 97.5% quantile with ``df`` degrees of freedom (1.96 above 30)."""
     return T975[df - 1] if df <= len(T975) else 1.96
 
 
@@ -58,10 +59,11 @@ def study_rate(experiment: str) -> float | None:
 
 
 def cell_of(experiment: str) -> str | None:
-    """The study's experiment a run competes with: itself, or the longest study name it extends."""
+    """The study's experiment a run competes with: itself, or the longest study name it extends
+    as ``<study name>-<suffix>`` (``5.3-g0.1`` competes for ``5.3``)."""
     if experiment in THESIS:
         return experiment
-    owners = [e for e in THESIS if experiment.startswith(e + "_")]
+    owners = [e for e in THESIS if experiment.startswith(e + "-")]
     return max(owners, key=len) if owners else None
 
 
@@ -128,13 +130,13 @@ def wide_intervals(summaries: dict[str, dict]) -> list[str]:
 
 
 def short_of_seeds(summaries: dict[str, dict], configs: dict[str, str]) -> list[str]:
-    """The configs (experiment -> path) with fewer than MIN_SEEDS finished seeds in the reported folders."""
+    """The configs (experiment -> path) with fewer than MIN_SEEDS runs in the table."""
     seeds = {e: summaries[e]["seeds"] if e in summaries else 0 for e in configs}
     short = sorted((p, seeds[e]) for e, p in configs.items() if seeds[e] < MIN_SEEDS)
     if not short:
         return []
     lines = ["", f"## Configs with fewer than {MIN_SEEDS} seeds", "",
-             f"Configs with fewer than {MIN_SEEDS} finished seeds in these folders (`python -m agents.study.sweep CONFIG "
+             f"Configs with fewer than {MIN_SEEDS} runs in the table (`python -m agents.study.sweep CONFIG "
              f"--seeds {MIN_SEEDS}` runs the missing ones and continues those in progress):", ""]
     return lines + [f"* `{p}`: {n} finished" for p, n in short]
 

@@ -1,8 +1,8 @@
 """Run experiments x seeds on Ray: each (experiment, seed) is one Ray task on one CPU.
 
-    python -m agents.study.sweep configs/moving_target_5_2.yaml configs/moving_obstacles_5_3.yaml \\
+    python -m agents.study.sweep configs/study/5.2.yaml configs/study/5.3.yaml \\
         --seeds 3 --out sweeps/laser
-    python -m agents.study.sweep configs/potential_gamma_*_5_3.yaml --address auto   # an existing Ray cluster
+    python -m agents.study.sweep configs/study/5.3-potential-{0.85,0.9,0.95,1.0}.yaml --address auto   # an existing Ray cluster
 
 Without ``--address`` a new Ray instance starts inside this process on this machine
 (``--num-cpus``, default all cores), even where ``ray start`` has run; with it (``auto`` or
@@ -19,6 +19,13 @@ is rewritten atomically after every finished run; sweeps sharing a folder (one p
 merge their runs there. A run's status there: done, resumed (continued from a checkpoint),
 skipped (finished before), failed (with its error and traceback), unfinished (queued or
 running, or the sweep was stopped).
+
+Each run the sweep finishes is added to a run table (agents/study/table.py) as soon as its test
+phase ends: ``--table`` names the table's folder, by default the sweep folder itself
+(``<out>/runs.csv.gz`` and ``<out>/episodes.csv.gz``); ``--table results`` adds the runs to this
+repository's table, from which ``python -m agents.study.report`` writes RESULTS.md. A run found
+finished from an earlier sweep is added only if the table does not list it yet (it keeps the row
+it has, with the code commit that made it).
 """
 
 from __future__ import annotations
@@ -35,6 +42,7 @@ import traceback
 from pathlib import Path
 
 from agents.files import atomic_write_bytes
+from agents.study.table import add_runs
 from agents.training.checkpoint import exists
 from agents.training.config import Config
 from agents.training.config_io import load_yaml, replace
@@ -157,14 +165,25 @@ def write_summary(out: Path, records: dict, started: float, args: dict) -> dict:
     return own
 
 
+def add_to_table(table: Path, spec: RunSpec, record: dict) -> None:
+    """Add a finished run of the sweep to the run table (one it skipped: only if not there yet)."""
+    if record["status"] in ("done", "resumed", "skipped"):
+        add_runs(table, [record["run_dir"]], spec.experiment, replace=record["status"] != "skipped")
+
+
 def run_sweep(config_paths: list[str], seeds: list[int], out: str | Path, address: str | None = None,
-              num_cpus: int | None = None, max_retries: int = 1, verbose: bool = True) -> dict:
-    """Run the sweep to its end; return its summary (its runs are also in ``<out>/sweep_summary.json``).
+              num_cpus: int | None = None, max_retries: int = 1, verbose: bool = True,
+              table: str | Path | None = None) -> dict:
+    """Run the sweep to its end; return its summary (its runs are also in ``<out>/sweep_summary.json``)
+    and add each finished run to the run table in ``table`` (default: the folder ``out``).
 
     Ray is started (or joined, ``address``) unless it is already initialised in this process."""
     import ray
 
     out = Path(out)
+    table = Path(table) if table is not None else out
+    if table.is_file():
+        raise ValueError(f"--table {table} is a file; give the folder that holds (or will hold) runs.csv.gz")
     specs = plan(config_paths, seeds, out)
     out.mkdir(parents=True, exist_ok=True)
     started = time.time()
@@ -175,6 +194,7 @@ def run_sweep(config_paths: list[str], seeds: list[int], out: str | Path, addres
         status = run_status(s.seed_dir)
         if status == "finished":
             records[s] = _record(s, find_run_dir(s.seed_dir), "skipped")
+            add_to_table(table, s, records[s])
         else:
             todo.append(s)
     if not ray.is_initialized():
@@ -200,6 +220,7 @@ def run_sweep(config_paths: list[str], seeds: list[int], out: str | Path, addres
                                  error=f"{type(cause).__name__}: {cause}",
                                  traceback="".join(traceback.format_exception(cause))[-4000:])
         r = records[spec]
+        add_to_table(table, spec, r)
         done = sum(x["status"] in ("done", "resumed", "skipped") for x in records.values())
         failed = sum(x["status"] == "failed" for x in records.values())
         result = (f"success {r['success_rate']:.0%}" if r["status"] != "failed" else f"FAILED: {r['error']}")
@@ -212,13 +233,16 @@ def run_sweep(config_paths: list[str], seeds: list[int], out: str | Path, addres
 
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(prog="python -m agents.study.sweep", description=__doc__.split("\n\n")[0])
-    parser.add_argument("configs", nargs="+", help="experiment YAML files (configs/*.yaml)")
+    parser.add_argument("configs", nargs="+", help="experiment YAML files (configs/study/*.yaml)")
     parser.add_argument("--seeds", type=int, default=3, help="seeds 1..N per experiment (default 3)")
     parser.add_argument("--seed-list", type=int, nargs="+", help="these seeds instead of 1..N")
     parser.add_argument("--out", default=None, help="sweep folder (default sweeps/<first config's name>)")
     parser.add_argument("--address", default=None, help="join this Ray cluster (e.g. auto or host:6379)")
     parser.add_argument("--num-cpus", type=int, default=None, help="local Ray's CPUs = parallel runs (default all)")
     parser.add_argument("--max-retries", type=int, default=1, help="retries of a failed run (default 1)")
+    parser.add_argument("--table", default=None,
+                        help="run table folder each finished run is added to (default: the sweep folder; "
+                             "results: this repository's table, which RESULTS.md is made from)")
     args = parser.parse_args(argv)
     if args.seeds < 1:
         raise SystemExit("error: --seeds must be at least 1")
@@ -226,8 +250,8 @@ def main(argv: list[str] | None = None) -> None:
     out = args.out or str(Path("sweeps") / Path(args.configs[0]).stem)
     try:
         summary = run_sweep(args.configs, seeds, out, address=args.address, num_cpus=args.num_cpus,
-                            max_retries=args.max_retries)
-    except (ValueError, RuntimeError) as err:
+                            max_retries=args.max_retries, table=args.table)
+    except (ValueError, RuntimeError, OSError) as err:
         raise SystemExit(f"error: {err}")
     if summary["counts"]["failed"]:
         sys.exit(1)

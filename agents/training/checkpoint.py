@@ -16,7 +16,8 @@ Writes are atomic: the files go to ``<run>/.checkpoint.tmp-*/`` first, are flush
 then that folder is renamed to ``checkpoint`` (the previous one is moved aside first and
 deleted after). A run killed at any moment keeps a complete checkpoint; what a killed write
 left behind (temporary folders and files) is removed by the run's next write or resume;
-reading never changes a run directory.
+reading never changes a run directory. A full disk is an ``agents.files.DiskFullError`` that
+names the checkpoint, its size and the space free; the previous checkpoint stays in place.
 """
 
 from __future__ import annotations
@@ -32,7 +33,7 @@ from pathlib import Path
 import numpy as np
 import torch
 
-from agents.files import atomic_write_bytes, umask
+from agents.files import disk_full_error, is_disk_full, umask, write_synced
 
 FORMAT = "dynnav-dqn-checkpoint"
 VERSION = 2
@@ -114,20 +115,18 @@ def save(run_dir: str | Path, state: dict) -> Path:
     tensors, arrays = {}, {}
     meta = {k: _split(v, tensors, arrays if k == "memory" else None, k) for k, v in state.items()}
     meta = {"format": FORMAT, "version": VERSION, **meta}
-    tmp = Path(tempfile.mkdtemp(dir=run_dir, prefix=".checkpoint.tmp-"))
+    buffer = io.BytesIO()
+    torch.save(tensors, buffer)
+    npz = io.BytesIO()
+    np.savez(npz, **arrays)
+    files = ((WEIGHTS, buffer.getvalue()), (MEMORY, npz.getvalue()), (META, json.dumps(meta, indent=1).encode()))
+    target = run_dir / FILENAME
+    tmp = None
     try:
+        tmp = Path(tempfile.mkdtemp(dir=run_dir, prefix=".checkpoint.tmp-"))
         os.chmod(tmp, 0o777 & ~umask())
-        buffer = io.BytesIO()
-        torch.save(tensors, buffer)
-        npz = io.BytesIO()
-        np.savez(npz, **arrays)
-        for name, data in ((WEIGHTS, buffer.getvalue()), (MEMORY, npz.getvalue()),
-                           (META, json.dumps(meta, indent=1).encode())):
-            with open(tmp / name, "wb") as f:
-                f.write(data)
-                f.flush()
-                os.fsync(f.fileno())
-        target = run_dir / FILENAME
+        for name, data in files:
+            write_synced(tmp / name, data)
         if target.exists():
             aside = run_dir / f".checkpoint.old-{os.urandom(4).hex()}"
             os.replace(target, aside)  # a kill from here to the next line: clean_leftovers puts it back
@@ -135,8 +134,13 @@ def save(run_dir: str | Path, state: dict) -> Path:
             shutil.rmtree(aside, ignore_errors=True)
         else:
             os.replace(tmp, target)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
+    except BaseException as err:
+        if tmp is not None:
+            shutil.rmtree(tmp, ignore_errors=True)
+        if is_disk_full(err):
+            kept = (f"the previous checkpoint is intact: continue with --resume {run_dir}" if exists(run_dir)
+                    else "no checkpoint was written yet")
+            raise disk_full_error(err, target, sum(len(data) for _, data in files), kept) from err
         raise
     return target
 

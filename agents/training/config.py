@@ -1,18 +1,20 @@
 """The training configuration: dataclasses grouped by job, parsed by tyro, loadable from YAML.
 
-    python -m agents.dqn --config configs/moving_target_5_2.yaml --seed 3 --learning-rate 0.001
+    python -m agents.dqn --config configs/study/5.2.yaml --seed 3 --learning-rate 0.001
 
 ``Config`` holds the task, the run's name, seed and episode count, the mode (``--eval``,
 ``--resume``) and one group per job: ``env`` (reward and task options), ``dqn`` (the algorithm
 and network), ``schedule`` (epsilon and learning rate per episode), ``camera`` (camera runs),
 ``test`` (the test phase) and ``run`` (files, device, recordings). Flags keep their field names
 (``--learning-rate``, not ``--dqn.learning-rate``); ``--help`` lists them by group. A YAML file
-groups them the same way (``dqn: {learning_rate: 0.001}``); the older flat layout, every field
-at the top level, still loads (see ``agents/training/config_io.py``).
+groups them the same way (``dqn: {learning_rate: 0.001}``) and may start from another file
+(``base:``); reading and writing YAML is ``agents/training/config_io.py``. This module also
+checks a Config (``validate``): every field with an impossible value is an error naming it.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from typing import Literal, Optional, Union
 
@@ -184,7 +186,10 @@ class Config:
     task: str = "DynNav-MovingTarget-v1"
     """gymnasium task id: a dynnav task (dynnav_tasks.TASK_IDS) or any env with Discrete actions and a Box state"""
     name: str = "dqn"
-    """experiment name, part of the run directory runs/<task>__<name>__<seed>__<time>"""
+    """experiment name, part of the run directory runs/<task>__<name>__<seed>__<time> (default: the
+    --config file's own name: field, else its file name without .yaml; never taken from a base:)"""
+    description: str = ""
+    """one line saying what the experiment is (a --config file's own description:, never taken from a base:)"""
     seed: int = 1
     """seeds the networks, exploration, replay sampling and every training episode"""
     episodes: int = 2000
@@ -209,9 +214,7 @@ class Config:
     """files, device and recordings"""
 
     def validate(self) -> "Config":
-        """Raise ValueError naming the first field with an impossible value."""
-        from agents.training.config_io import validate
-
+        """Raise ValueError naming the first field with an impossible value; return the config."""
         validate(self)
         return self
 
@@ -220,3 +223,83 @@ GROUPS = {"env": EnvConfig, "dqn": DQNConfig, "schedule": ScheduleConfig, "camer
           "test": TestConfig, "run": RunConfig}
 MODE_FIELDS = ("config", "eval", "checkpoint", "resume")
 """top-level fields that choose what a command does; not written to a run's config.yaml"""
+GROUP_OF = {f.name: group for group, cls in GROUPS.items() for f in dataclasses.fields(cls)}
+"""group of every grouped field, e.g. learning_rate -> schedule"""
+
+
+def get(config: Config, name: str):
+    """A field's value by its name (grouped or top level)."""
+    group = GROUP_OF.get(name)
+    return getattr(getattr(config, group), name) if group else getattr(config, name)
+
+
+# ---------------------------------------------------------------------------------------- validation
+POSITIVE = ["episodes", "checkpoint_every", "batch_size", "buffer_size", "train_frequency", "target_update_interval",
+            "eval_episodes", "lr_decay_episodes", "rerun_every", "ae_dense", "ae_update_every", "ae_batch_size",
+            "ae_pictures_every", "state_frames"]
+NOT_NEGATIVE = ["learning_starts", "random_episodes", "epsilon_decay_episodes", "camera_frames", "ae_latent",
+                "ae_first_update", "ae_updates", "ae_iterations", "ae_batches", "pixel_shift"]
+
+
+def validate(c: Config) -> None:
+    """Raise ValueError naming the first field with an impossible value."""
+    for name in POSITIVE:
+        if get(c, name) < 1:
+            raise ValueError(f"{name} must be at least 1, got {get(c, name)}")
+    for name in NOT_NEGATIVE:
+        if get(c, name) < 0:
+            raise ValueError(f"{name} must not be negative, got {get(c, name)}")
+    if "\n" in c.description or "\r" in c.description:
+        raise ValueError(f"description must be one line, got {c.description!r}: say more in the docs, "
+                         f"or in a comment of the config file")
+    d, s, cam = c.dqn, c.schedule, c.camera
+    checks = {
+        "gamma": 0.0 <= d.gamma <= 1.0,
+        "tau": 0.0 < d.tau <= 1.0,
+        "learning_rate": s.learning_rate > 0,
+        "learning_rate_end": s.learning_rate_end > 0,
+        "epsilon_start": 0.0 <= s.epsilon_start <= 1.0,
+        "epsilon_end": 0.0 <= s.epsilon_end <= 1.0,
+        "eval_epsilon": 0.0 <= c.test.eval_epsilon <= 1.0,
+        "max_grad_norm": d.max_grad_norm >= 0,
+        "hidden_sizes": len(d.hidden_sizes) > 0 and all(h > 0 for h in d.hidden_sizes),
+        "ae_learning_rate": cam.ae_learning_rate > 0,
+        "ae_rare_colour_power": 0.0 <= cam.ae_rare_colour_power <= 2.0,
+        "ae_conv_channels": len(cam.ae_conv_channels) in (0, 2) and all(v > 0 for v in cam.ae_conv_channels),
+    }
+    for name, ok in checks.items():
+        if not ok:
+            raise ValueError(f"{name} has an impossible value: {get(c, name)!r}")
+    if d.batch_size > d.buffer_size:
+        raise ValueError(f"batch_size ({d.batch_size}) is larger than buffer_size ({d.buffer_size}): the replay "
+                         f"memory could never fill a minibatch and no update would run; lower --batch-size or raise "
+                         f"--buffer-size")
+    if cam.camera_state and not cam.camera_frames:
+        raise ValueError("camera_state selects state parts to feed beside the camera: set camera_frames too "
+                         "(without a camera the whole state vector is used)")
+    if c.env.state_frames > 1 and cam.camera_frames:
+        raise ValueError("state_frames stacks state vectors for runs without a camera; with camera_frames, "
+                         "camera_frames N >= 2 already stacks frames")
+    if cam.camera_input == "pixels" and not cam.camera_frames:
+        raise ValueError("camera_input pixels reads camera frames: set camera_frames (1: RGB, N >= 2: N gray frames)")
+    check_device(c.run.device)
+    if c.eval and not c.checkpoint:
+        raise ValueError("--eval needs --checkpoint <checkpoint or run directory>")
+
+
+def check_device(device: str) -> None:
+    """ValueError unless ``device`` is cpu, or a GPU torch can use."""
+    import torch
+
+    try:
+        dev = torch.device(device)
+    except RuntimeError as err:
+        raise ValueError(f"device {device!r} is not a torch device (use cpu, cuda or cuda:N): {err}") from err
+    if dev.type == "cuda":
+        if not torch.cuda.is_available():
+            raise ValueError(f"device {device!r} was asked for, but torch finds no GPU here "
+                             f"(torch.cuda.is_available() is False); use --device cpu")
+        if dev.index is not None and dev.index >= torch.cuda.device_count():
+            raise ValueError(f"device {device!r}: torch sees {torch.cuda.device_count()} GPU(s)")
+    elif dev.type != "cpu":
+        raise ValueError(f"device {device!r}: use cpu, cuda or cuda:N")

@@ -1,9 +1,28 @@
-"""Reading, checking and writing ``Config``: YAML files, the command line, validation.
+"""Reading and writing ``Config``: YAML files with their bases, and the command line.
 
 A YAML file groups fields as the dataclasses do (``dqn: {learning_rate: 0.001}``); a field at
 the top level that belongs to a group (the older flat layout, e.g. ``learning_rate: 0.001``) is
 moved into its group. An unknown key, a value of the wrong type or a file that is not YAML is
 an error naming the file and the field.
+
+A file may start from another: ``base: <path>``, relative to the file's own folder, and then
+writes only what differs. The base is read first (it may name a base of its own), then the
+file's values are laid over it:
+
+* a top-level field (``task``, ``episodes`` ...) replaces the base's;
+* a group (``env:``, ``dqn:``, ``schedule:``, ``camera:``, ``test:``, ``run:``) is merged key by
+  key: ``schedule: {learning_rate: 0.001}`` changes the learning rate and keeps the base's
+  other schedule settings;
+* inside ``env:``, ``reward_params`` and ``task_kwargs`` are merged key by key too:
+  ``reward_params: {collision_reward: -100.0}`` over a base's ``{distance_gamma: 0.1}`` gives
+  both. A list (``hidden_sizes``, ``camera_state`` ...) is replaced whole. A key cannot be
+  removed, only set again (to the default, say);
+* ``name`` and ``description`` are never taken from a base: they say what this file is. A
+  file's run name is its own ``name:``, else its file name without ``.yaml``.
+
+A base that does not exist, that is not a mapping, or a chain of bases that comes back to a
+file already in it is an error naming the files. Runs write the fully resolved config (every
+field, no ``base:``) as their ``config.yaml``.
 """
 
 from __future__ import annotations
@@ -19,20 +38,12 @@ from typing import Literal, Optional
 import tyro
 import yaml
 
-from agents.training.config import GROUPS, MODE_FIELDS, Config
+from agents.training.config import GROUP_OF, GROUPS, MODE_FIELDS, Config, get  # noqa: F401 (get: re-exported)
 
 TOP_FIELDS = {f.name for f in dataclasses.fields(Config)} - set(GROUPS)
-GROUP_OF = {f.name: group for group, cls in GROUPS.items() for f in dataclasses.fields(cls)}
-"""group of every grouped field, e.g. learning_rate -> schedule"""
 EVAL_FLAGS = {"eval", "checkpoint", "eval_episodes", "eval_seed", "eval_epsilon", "eval_out", "eval_picture",
               "progress", "device", "rerun"}
 """settings --eval takes from the command line; everything else comes from the checkpoint"""
-
-
-def get(config: Config, name: str):
-    """A field's value by its name (grouped or top level)."""
-    group = GROUP_OF.get(name)
-    return getattr(getattr(config, group), name) if group else getattr(config, name)
 
 
 def replace(config: Config, **values) -> Config:
@@ -108,22 +119,33 @@ def _fill(cls, values: dict, source: str, where: str = ""):
     return cls(**kwargs)
 
 
-def config_from_dict(values: dict, source: str = "config") -> Config:
-    """A Config from a (grouped or flat) mapping of field values; errors name the field."""
+def _grouped(values: dict, source: str) -> dict:
+    """A file's mapping in the grouped layout: top-level fields, and one mapping per group given
+    (a flat-layout field moved into its group); a group that is not a mapping is an error."""
     if not isinstance(values, dict):
         raise ValueError(f"{source}: expected a mapping of field names to values, got {type(values).__name__}")
-    top, grouped = {}, {group: {} for group in GROUPS}
+    out = {}
     for key, value in values.items():
         if key in GROUPS:
             if not isinstance(value, dict):
                 raise ValueError(f"{source}: {key!r} holds the {key} settings as a mapping, got {value!r}")
-            grouped[key].update(value)
+            out.setdefault(key, {}).update(value)
         elif key in GROUP_OF:  # the flat layout
-            grouped[GROUP_OF[key]][key] = value
+            out.setdefault(GROUP_OF[key], {})[key] = value
         else:
-            top[key] = value
+            out[key] = value
+    return out
+
+
+def config_from_dict(values: dict, source: str = "config") -> Config:
+    """A Config from a (grouped or flat) mapping of field values; errors name the field."""
+    values = _grouped(values, source)
+    if "base" in values:
+        raise ValueError(f"{source}: 'base' names a file to start from; it works in a YAML file read by path "
+                         f"(--config, load_yaml), not in a mapping of values")
+    top = {k: v for k, v in values.items() if k not in GROUPS}
     config = _fill(Config, top, source)
-    parts = {group: _fill(GROUPS[group], grouped[group], source, f"{group}.") for group in GROUPS}
+    parts = {group: _fill(GROUPS[group], values.get(group, {}), source, f"{group}.") for group in GROUPS}
     return dataclasses.replace(config, **parts)
 
 
@@ -140,92 +162,83 @@ def to_yaml_dict(config: Config) -> dict:
     return out
 
 
-def load_yaml(path: str | Path) -> Config:
-    path = Path(path)
+# ---------------------------------------------------------------------------------------- YAML files and bases
+NOT_INHERITED = ("name", "description")
+"""fields a file never takes from its base"""
+MERGED_KEYS = ("reward_params", "task_kwargs")
+"""env mappings merged key by key over the base's"""
+
+
+def _read(path: Path, via: tuple[Path, ...]) -> dict:
+    """One file's own mapping (its ``base:`` still in it); errors name the file and the file whose base it is."""
+    what = f"config file {str(path)!r}" + (f" (the base of {str(via[-1])!r})" if via else "")
     if not path.is_file():
-        raise ValueError(f"config file {str(path)!r} does not exist")
+        raise ValueError(f"{what} does not exist" + ("; base: is a path relative to the folder of the file "
+                                                      "that names it" if via else ""))
     try:
-        values = yaml.safe_load(path.read_text(encoding="utf-8")) or {}
+        values = yaml.safe_load(path.read_text(encoding="utf-8"))
     except UnicodeDecodeError as err:
-        raise ValueError(f"config file {str(path)!r} is not a text (UTF-8) YAML file: {err}") from err
+        raise ValueError(f"{what} is not a text (UTF-8) YAML file: {err}") from err
     except yaml.YAMLError as err:
-        raise ValueError(f"config file {str(path)!r} is not valid YAML: {err}") from err
+        raise ValueError(f"{what} is not valid YAML: {err}") from err
+    values = {} if values is None else values
+    if not isinstance(values, dict):
+        raise ValueError(f"{what}: expected a mapping of field names to values, got {type(values).__name__}")
+    return values
+
+
+def merge(base: dict, over: dict) -> dict:
+    """``over``'s values laid over ``base``'s (both in the grouped layout), as the module's docstring says."""
+    out = {k: dict(v) if k in GROUPS else v for k, v in base.items()}
+    for key, value in over.items():
+        if key not in GROUPS:
+            out[key] = value
+            continue
+        group = out.setdefault(key, {})
+        for field_name, field_value in value.items():
+            old = group.get(field_name)
+            if key == "env" and field_name in MERGED_KEYS and isinstance(old, dict) and isinstance(field_value, dict):
+                field_value = {**old, **field_value}
+            group[field_name] = field_value
+    return out
+
+
+def resolve_yaml(path: str | Path, via: tuple[Path, ...] = ()) -> dict:
+    """The field values ``path`` stands for, its chain of bases merged (grouped layout, no ``base``);
+    ``name`` and ``description`` are the file's own, if it sets them."""
+    path = Path(path)
+    if path.resolve() in [p.resolve() for p in via]:
+        chain = " -> ".join(str(p) for p in (*via, path))
+        raise ValueError(f"config files form a cycle of bases: {chain}; a chain of bases must end in a file "
+                         f"without base:")
+    own = _read(path, via)
+    base = own.pop("base", None)
+    config_from_dict(own, source=str(path))  # unknown fields and wrong types, named with this file
+    own = _grouped(own, str(path))
+    if base is None:
+        return own
+    if not isinstance(base, str) or not base.strip():
+        raise ValueError(f"config file {str(path)!r}: base must be the path of a YAML file, relative to this "
+                         f"file's folder, got {base!r}")
+    inherited = resolve_yaml(path.parent / base, (*via, path))
+    for key in NOT_INHERITED:
+        inherited.pop(key, None)
+    return merge(inherited, own)
+
+
+def load_yaml(path: str | Path) -> Config:
+    """A Config from a YAML file and its chain of bases; ``name`` defaults to the file's stem."""
+    path = Path(path)
+    values = resolve_yaml(path)
+    values.setdefault("name", path.stem)
     return config_from_dict(values, source=str(path))
 
 
 def save_yaml(config: Config, path: str | Path) -> None:
+    """Write ``config`` fully resolved (every field, grouped, no base) to ``path``, atomically."""
     from agents.files import atomic_write_bytes
 
     atomic_write_bytes(path, yaml.safe_dump(to_yaml_dict(config), sort_keys=False).encode())
-
-
-# ---------------------------------------------------------------------------------------- validation
-POSITIVE = ["episodes", "checkpoint_every", "batch_size", "buffer_size", "train_frequency", "target_update_interval",
-            "eval_episodes", "lr_decay_episodes", "rerun_every", "ae_dense", "ae_update_every", "ae_batch_size",
-            "ae_pictures_every", "state_frames"]
-NOT_NEGATIVE = ["learning_starts", "random_episodes", "epsilon_decay_episodes", "camera_frames", "ae_latent",
-                "ae_first_update", "ae_updates", "ae_iterations", "ae_batches", "pixel_shift"]
-
-
-def validate(c: Config) -> None:
-    """Raise ValueError naming the first field with an impossible value."""
-    for name in POSITIVE:
-        if get(c, name) < 1:
-            raise ValueError(f"{name} must be at least 1, got {get(c, name)}")
-    for name in NOT_NEGATIVE:
-        if get(c, name) < 0:
-            raise ValueError(f"{name} must not be negative, got {get(c, name)}")
-    d, s, cam = c.dqn, c.schedule, c.camera
-    checks = {
-        "gamma": 0.0 <= d.gamma <= 1.0,
-        "tau": 0.0 < d.tau <= 1.0,
-        "learning_rate": s.learning_rate > 0,
-        "learning_rate_end": s.learning_rate_end > 0,
-        "epsilon_start": 0.0 <= s.epsilon_start <= 1.0,
-        "epsilon_end": 0.0 <= s.epsilon_end <= 1.0,
-        "eval_epsilon": 0.0 <= c.test.eval_epsilon <= 1.0,
-        "max_grad_norm": d.max_grad_norm >= 0,
-        "hidden_sizes": len(d.hidden_sizes) > 0 and all(h > 0 for h in d.hidden_sizes),
-        "ae_learning_rate": cam.ae_learning_rate > 0,
-        "ae_rare_colour_power": 0.0 <= cam.ae_rare_colour_power <= 2.0,
-        "ae_conv_channels": len(cam.ae_conv_channels) in (0, 2) and all(v > 0 for v in cam.ae_conv_channels),
-    }
-    for name, ok in checks.items():
-        if not ok:
-            raise ValueError(f"{name} has an impossible value: {get(c, name)!r}")
-    if d.batch_size > d.buffer_size:
-        raise ValueError(f"batch_size ({d.batch_size}) is larger than buffer_size ({d.buffer_size}): the replay "
-                         f"memory could never fill a minibatch and no update would run; lower --batch-size or raise "
-                         f"--buffer-size")
-    if cam.camera_state and not cam.camera_frames:
-        raise ValueError("camera_state selects state parts to feed beside the camera: set camera_frames too "
-                         "(without a camera the whole state vector is used)")
-    if c.env.state_frames > 1 and cam.camera_frames:
-        raise ValueError("state_frames stacks state vectors for runs without a camera; with camera_frames, "
-                         "camera_frames N >= 2 already stacks frames")
-    if cam.camera_input == "pixels" and not cam.camera_frames:
-        raise ValueError("camera_input pixels reads camera frames: set camera_frames (1: RGB, N >= 2: N gray frames)")
-    check_device(c.run.device)
-    if c.eval and not c.checkpoint:
-        raise ValueError("--eval needs --checkpoint <checkpoint or run directory>")
-
-
-def check_device(device: str) -> None:
-    """ValueError unless ``device`` is cpu, or a GPU torch can use."""
-    import torch
-
-    try:
-        dev = torch.device(device)
-    except RuntimeError as err:
-        raise ValueError(f"device {device!r} is not a torch device (use cpu, cuda or cuda:N): {err}") from err
-    if dev.type == "cuda":
-        if not torch.cuda.is_available():
-            raise ValueError(f"device {device!r} was asked for, but torch finds no GPU here "
-                             f"(torch.cuda.is_available() is False); use --device cpu")
-        if dev.index is not None and dev.index >= torch.cuda.device_count():
-            raise ValueError(f"device {device!r}: torch sees {torch.cuda.device_count()} GPU(s)")
-    elif dev.type != "cpu":
-        raise ValueError(f"device {device!r}: use cpu, cuda or cuda:N")
 
 
 # ---------------------------------------------------------------------------------------- command line

@@ -17,12 +17,14 @@ os.environ.setdefault("MS_RENDERER_LOG_LEVEL", "error")
 
 
 def dynnav_ids() -> tuple[str, ...]:
+    """The registered dynnav task ids."""
     import dynnav_tasks
 
     return tuple(dynnav_tasks.TASK_IDS)
 
 
 def is_dynnav(task: str) -> bool:
+    """Whether ``task`` is a dynnav task (not another gymnasium env)."""
     return task in dynnav_ids()
 
 

@@ -71,6 +71,7 @@ class CameraParts:
         self.offset, self.scale = scaler.offset[self.parts], scaler.scale[self.parts]
 
     def split(self, obs) -> tuple[np.ndarray, np.ndarray]:
+        """The frame and the scaled state parts of an observation."""
         return obs[self.frame_key], ((obs["state"][self.parts] - self.offset) * self.scale).astype(np.float32)
 
 
@@ -85,6 +86,7 @@ class LatentFeatures(CameraParts):
         """the latent of the frame most recently turned into an input (for recordings and plots)"""
 
     def combine(self, frame: np.ndarray, state: np.ndarray) -> np.ndarray:
+        """The Q-network input [latent of ``frame`` | ``state``]; remembers the latent."""
         self.last_latent = self.srl.encode(frame)
         return np.concatenate([self.last_latent, state]).astype(np.float32)
 
@@ -145,16 +147,19 @@ class VectorExperience:
         self._x = None
 
     def begin(self, obs) -> np.ndarray:
+        """Note an episode's first observation; return the Q-network's input for it."""
         self._x = self.features(obs)
         return self._x
 
     def step(self, action: int, reward: float, next_obs, terminated: bool) -> np.ndarray:
+        """Store the transition to ``next_obs``; return the Q-network's input for it."""
         x = self.features(next_obs)
         self.memory.add(self._x, action, reward, x, terminated)
         self._x = x
         return x
 
     def sample_into(self, batch, rng) -> None:
+        """Fill ``batch`` with a minibatch of stored transitions drawn with ``rng``."""
         self.memory.sample_into(batch, rng)
 
     def __len__(self) -> int:
@@ -173,6 +178,7 @@ class FrameExperience:
 
     @property
     def ready(self) -> bool:
+        """Whether the Q-network can act on and learn from the inputs (after the auto-encoder's first update)."""
         return self.srl is None or self.srl.trained
 
     def _input(self, slot: int, frame: np.ndarray, state: np.ndarray):
@@ -185,14 +191,17 @@ class FrameExperience:
         return x
 
     def begin(self, obs):
+        """Note an episode's first observation; return the Q-network's input for it."""
         frame, state = self.features.split(obs)
         return self._input(self.memory.start(frame, state), frame, state)
 
     def step(self, action: int, reward: float, next_obs, terminated: bool):
+        """Store the transition to ``next_obs``; return the Q-network's input for it."""
         frame, state = self.features.split(next_obs)
         return self._input(self.memory.add(action, reward, frame, state, terminated), frame, state)
 
     def sample_into(self, batch, rng) -> None:
+        """Fill ``batch`` with a minibatch of stored transitions drawn with ``rng``."""
         if self.srl is None:
             self.memory.sample_frames_into(batch, rng)
         else:

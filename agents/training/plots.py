@@ -8,6 +8,8 @@ from pathlib import Path
 
 import numpy as np
 
+from agents.files import save_figure
+
 
 def moving_average(values: np.ndarray, window: int) -> np.ndarray:
     """Mean of the last ``window`` finite values at each index (fewer at the start)."""
@@ -23,6 +25,7 @@ def moving_average(values: np.ndarray, window: int) -> np.ndarray:
 
 
 def read_metrics(path: str | Path) -> dict[str, np.ndarray]:
+    """metrics.csv as one float array per column (empty cells are NaN)."""
     with open(path, newline="") as f:
         rows = list(csv.DictReader(f))
     if not rows:
@@ -61,9 +64,7 @@ def plot_learning_curves(metrics_csv: str | Path, out_dir: str | Path, title: st
         ax.set_title(f"{title}: {ylabel}" if title else ylabel)
         fig.tight_layout()
         path = out_dir / name
-        tmp = out_dir / f".{name}.tmp.png"
-        fig.savefig(tmp)
+        save_figure(fig, path)
         plt.close(fig)
-        tmp.replace(path)
         written.append(path)
     return written

@@ -21,6 +21,7 @@ from typing import Optional
 import numpy as np
 import tyro
 
+from agents.files import DiskFullError
 from agents.training.rollout import greedy, open_recorder, random_actions, rollout
 
 
@@ -55,10 +56,9 @@ def record_episodes(env, recorder, episodes: int, seed: int, act=None, views=Non
 def record(args: Args) -> list[tuple[str, int]]:
     """Record ``args.episodes`` episodes; return (outcome, steps) per episode."""
     import dynnav_tasks
-    from mani_skill.utils.wrappers.gymnasium import CPUGymWrapper
 
     if args.checkpoint is not None:
-        from agents.core.policy import load_policy
+        from agents.training.policy_loading import load_policy
 
         policy = load_policy(args.checkpoint)
         task, env, views = policy.config.task, policy.env, policy.views
@@ -69,7 +69,7 @@ def record(args: Args) -> list[tuple[str, int]]:
         dynnav_tasks.check_choice(args.task, dynnav_tasks.TASK_IDS, "task id")
         recorder = open_recorder(args.out, args.task, spawn=args.spawn, required=True)  # checks the path before any work
         obs_mode = args.obs_mode or ("rgb+state" if args.task in dynnav_tasks.VISUAL_TASK_IDS else "state")
-        env, views, act = CPUGymWrapper(dynnav_tasks.make(args.task, obs_mode=obs_mode)), None, None
+        env, views, act = dynnav_tasks.NumpyWrapper(dynnav_tasks.make(args.task, obs_mode=obs_mode)), None, None
     try:
         with recorder:
             return record_episodes(env, recorder, args.episodes, args.seed, act, views)
@@ -83,7 +83,7 @@ def main(args: Args | None = None) -> None:
         args = tyro.cli(Args)
     try:
         results = record(args)
-    except ValueError as err:
+    except (ValueError, DiskFullError) as err:
         raise SystemExit(f"error: {err}")
     for i, (outcome, steps) in enumerate(results):
         print(f"episode {i}: {outcome} after {steps} steps")

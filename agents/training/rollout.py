@@ -1,10 +1,10 @@
-"""One episode of an agent in an environment: the loop that training, the test phase and
-recordings share.
+"""One episode of a trained (or random) policy in an environment: the loop that the test phase
+and recordings share (training has its own, in ``agents.training.loop``).
 
     episode = rollout(env, seed, act)                     # act(obs) -> (action, Q-values or None)
 
 ``on_reset(obs)`` sees the first observation and ``on_step(action, reward, next_obs,
-terminated, truncated, info)`` every step (training stores transitions and updates there); a
+terminated, truncated, info)`` every step (the test phase notes the path there); a
 ``recorder`` (``dynnav_tasks.viz.recording.Recorder``) logs every step with its Q-values and
 ``views(obs)`` (an auto-encoder's latent and reconstruction).
 """
@@ -16,7 +16,7 @@ from typing import Callable, Optional
 
 import numpy as np
 
-from agents.training.stats import outcome_of
+from dynnav_tasks.outcomes import outcome_of
 
 
 @dataclass

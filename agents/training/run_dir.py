@@ -6,13 +6,14 @@ from __future__ import annotations
 
 import csv
 import io
+import os
 import time
 from collections import deque
 from pathlib import Path
 
 import numpy as np
 
-from agents.files import atomic_write_bytes
+from agents.files import atomic_write_bytes, disk_full_error, is_disk_full, write_fully
 from agents.training.config_io import get
 
 METRICS = ["episode", "global_step", "return", "length", "success", "collision", "timeout", "loss",
@@ -29,13 +30,17 @@ def episode_seed(seed: int, episode: int) -> int:
 
 
 def new_run_dir(config) -> Path:
+    """A new, empty ``runs/<task>__<name>__<seed>__<time>`` folder (``-1``, ``-2``, ... if taken)."""
     stamp = time.strftime("%Y%m%d-%H%M%S")
     base = Path(config.run.runs_dir) / f"{config.task.replace('/', '-')}__{config.name}__{config.seed}__{stamp}"
+    base.parent.mkdir(parents=True, exist_ok=True)
     run_dir, k = base, 1
-    while run_dir.exists():
-        run_dir, k = Path(f"{base}-{k}"), k + 1
-    run_dir.mkdir(parents=True)
-    return run_dir
+    while True:
+        try:
+            run_dir.mkdir()  # fails if it exists, even when another process made it a moment ago
+            return run_dir
+        except FileExistsError:
+            run_dir, k = Path(f"{base}-{k}"), k + 1
 
 
 def check_resumable(config, saved) -> None:
@@ -48,26 +53,29 @@ def check_resumable(config, saved) -> None:
 
 
 class MetricsLog:
-    """metrics.csv (one row per episode, appended and flushed with each checkpoint), the progress
-    bar and the Rerun training curves."""
+    """metrics.csv (one row per episode, appended as the episode ends), the progress bar and the
+    Rerun training curves."""
 
     def __init__(self, path: Path, keep_episodes: int | None = None):
         self.path = path
         if keep_episodes is not None:
             self._keep_rows(keep_episodes)
-        new_file = not path.exists()
-        self.file = open(path, "a", newline="")
-        self.writer = csv.DictWriter(self.file, fieldnames=METRICS, lineterminator="\n")
-        if new_file:
+        self.pending = io.StringIO()
+        """rows not yet in the file"""
+        self.writer = csv.DictWriter(self.pending, fieldnames=METRICS, lineterminator="\n")
+        if not path.exists():
             self.writer.writeheader()
+            self.flush()
         self.recent_success, self.recent_return = deque(maxlen=100), deque(maxlen=100)
 
     def _keep_rows(self, episodes: int) -> None:
-        """Drop the rows of episodes after the checkpoint a resumed run continues from."""
+        """Drop the rows of episodes after the checkpoint a resumed run continues from (and a row
+        cut short by a kill or a full disk)."""
         if not self.path.exists():
             return
         with open(self.path, newline="") as f:
-            rows = [r for r in csv.DictReader(f) if r.get("episode", "").isdigit() and int(r["episode"]) < episodes]
+            rows = [r for r in csv.DictReader(f) if None not in r.values() and None not in r
+                    and r["episode"].isdigit() and int(r["episode"]) < episodes]
         out = io.StringIO()
         writer = csv.DictWriter(out, fieldnames=METRICS, lineterminator="\n")
         writer.writeheader()
@@ -76,6 +84,7 @@ class MetricsLog:
 
     @staticmethod
     def progress_bar(config, start_episode: int):
+        """A tqdm bar over the run's episodes, starting at ``start_episode``."""
         from tqdm import tqdm
 
         return tqdm(total=config.episodes, initial=start_episode, desc=config.task, unit="ep", dynamic_ncols=True,
@@ -83,6 +92,7 @@ class MetricsLog:
 
     def log(self, episode: int, global_step: int, result, losses: list, epsilon: float, learning_rate: float,
             elapsed: float, wall_time: float, recorder=None, bar=None) -> None:
+        """Write one episode's row (appended to the file at once), update the bar and the Rerun curves."""
         info, success = result.info, result.outcome == "success"
         self.writer.writerow(dict(
             episode=episode, global_step=global_step, **{"return": round(result.ret, 4)}, length=result.length,
@@ -91,6 +101,7 @@ class MetricsLog:
             epsilon=round(epsilon, 5), learning_rate=f"{learning_rate:.6g}",
             steps_per_s=round(result.length / elapsed, 1), wall_time_s=round(wall_time, 2),
         ))
+        self.flush()
         self.recent_success.append(success)
         self.recent_return.append(result.ret)
         if recorder is not None:
@@ -102,15 +113,32 @@ class MetricsLog:
                             eps=f"{epsilon:.2f}", sps=f"{result.length / elapsed:.0f}", refresh=False)
 
     def flush(self) -> None:
-        self.file.flush()
+        """Append the pending rows to the file; a full disk is a ``DiskFullError``."""
+        data = self.pending.getvalue().encode()
+        if not data:
+            return
+        try:
+            fd = os.open(self.path, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o666)
+            try:
+                write_fully(fd, data)
+            finally:
+                os.close(fd)
+        except OSError as err:
+            if is_disk_full(err):
+                raise disk_full_error(err, self.path, len(data)) from err
+            raise
+        self.pending.seek(0)
+        self.pending.truncate()
 
     def plot(self, run_dir: Path, title: str) -> None:
+        """Redraw reward.png and loss.png from metrics.csv into ``run_dir``."""
         from agents.training.plots import plot_learning_curves
 
         plot_learning_curves(self.path, run_dir, title=title)
 
     def close(self) -> None:
-        self.file.close()
+        """Append the pending rows."""
+        self.flush()
 
 
 def update_state_representation(srl, memory, rng, episodes_done: int, config, run_dir: Path) -> None:

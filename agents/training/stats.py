@@ -27,15 +27,6 @@ def wilson_interval(successes: int, n: int, z: float = 1.96) -> tuple[float, flo
     return (max(0.0, center - half), min(1.0, center + half))
 
 
-def outcome_of(info: dict, terminated: bool) -> str:
-    """success / collision (dynnav), timeout (truncated), or terminated (other envs' endings)."""
-    if info.get("success", False):
-        return "success"
-    if info.get("collision", False):
-        return "collision"
-    return "terminated" if terminated else "timeout"
-
-
 def spl(success: bool, shortest: float, driven: float) -> float:
     return round(shortest / max(driven, shortest, 1e-9), 4) if success else 0.0
 

@@ -11,15 +11,19 @@ eval.md (the table printed here) and, for dynnav tasks, trajectories.png (``agen
 
 from __future__ import annotations
 
+import io
 from pathlib import Path
 
 import numpy as np
 
+from agents.core.policy import Policy
+from agents.files import atomic_write_bytes
 from agents.training.envs import is_dynnav
-from agents.training.test_report import draw_trajectories, write_results
-from agents.core.policy import Policy, load_policy
+from agents.training.policy_loading import load_policy
 from agents.training.rollout import greedy, open_recorder, rollout
+from agents.training.run_lock import RunDirLock
 from agents.training.stats import spl, summarize
+from agents.training.test_report import draw_trajectories, write_results
 from agents.training.threads import limit_threads
 
 
@@ -81,34 +85,43 @@ def evaluate(checkpoint_path, episodes: int = 100, seed: int = 1_000_000, pictur
     ``rerun``: also write every test episode to this Rerun recording (dynnav tasks)."""
     limit_threads(1)
     policy = load_policy(checkpoint_path, device=device)
-    config, env, path, trained = policy.config, policy.env, policy.path, policy.state["episode"]
     try:
-        recorder = open_recorder(rerun, config.task)  # checks the recording path before any work
-        out_dir = Path(out_dir) if out_dir is not None else path.parent
+        recorder = open_recorder(rerun, policy.config.task)  # checks the recording path before any work
+        out_dir = Path(out_dir) if out_dir is not None else policy.path.parent
         out_dir.mkdir(parents=True, exist_ok=True)
-        latents = [] if hasattr(policy.features, "last_latent") else None
-        records = run_episodes(policy, episodes, seed, recorder, latents, epsilon)
-        if recorder is not None:
-            recorder.close()
-        if latents:
-            from agents.srl.pictures import plot_latents
-
-            z, targets, rewards = (np.array(v) for v in zip(*latents))
-            np.savez_compressed(out_dir / "latents.npz", latents=z, targets=targets, rewards=rewards)
-            plot_latents(z, targets, rewards, out_dir, title=config.task)
-        summary = summarize(records, epsilon)
-        result = dict(task=config.task, checkpoint=str(path), trained_episodes=trained, eval_seed=seed,
-                      summary=summary, episodes=records)
-        table = write_results(out_dir, result, f"Test of {path} after {trained} training episodes")
-        if verbose:
-            print(f"\ntest phase: {path} ({trained} training episodes)\n")
-            print(table)
-        if picture and is_dynnav(config.task):
-            draw_trajectories(env, records, out_dir / "trajectories.png")
-            if verbose:
-                print(f"trajectories: {out_dir / 'trajectories.png'}")
-        if verbose:
-            print(f"results: {out_dir / 'eval.json'}, {out_dir / 'eval.md'}")
+        with RunDirLock(out_dir):  # not while another process writes there (e.g. still trains)
+            return run_test_phase(policy, out_dir, episodes, seed, picture, verbose, recorder, epsilon)
     finally:
-        env.close()
+        policy.env.close()
+
+
+def run_test_phase(policy: Policy, out_dir: Path, episodes: int, seed: int, picture: bool, verbose: bool, recorder,
+              epsilon: float) -> dict:
+    """The test phase of ``policy`` with its results written to ``out_dir``; returns the summary."""
+    config, path, trained = policy.config, policy.path, policy.state["episode"]
+    latents = [] if hasattr(policy.features, "last_latent") else None
+    records = run_episodes(policy, episodes, seed, recorder, latents, epsilon)
+    if recorder is not None:
+        recorder.close()
+    if latents:
+        from agents.srl.pictures import plot_latents
+
+        z, targets, rewards = (np.array(v) for v in zip(*latents))
+        npz = io.BytesIO()
+        np.savez_compressed(npz, latents=z, targets=targets, rewards=rewards)
+        atomic_write_bytes(out_dir / "latents.npz", npz.getvalue())
+        plot_latents(z, targets, rewards, out_dir, title=config.task)
+    summary = summarize(records, epsilon)
+    result = dict(task=config.task, checkpoint=str(path), trained_episodes=trained, eval_seed=seed,
+                  summary=summary, episodes=records)
+    table = write_results(out_dir, result, f"Test of {path} after {trained} training episodes")
+    if verbose:
+        print(f"\ntest phase: {path} ({trained} training episodes)\n")
+        print(table)
+    if picture and is_dynnav(config.task):
+        draw_trajectories(policy.env, records, out_dir / "trajectories.png")
+        if verbose:
+            print(f"trajectories: {out_dir / 'trajectories.png'}")
+    if verbose:
+        print(f"results: {out_dir / 'eval.json'}, {out_dir / 'eval.md'}")
     return summary

@@ -6,12 +6,13 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from agents.files import atomic_write_bytes
+from agents.files import atomic_write_bytes, save_figure
 
 OUTCOME_COLORS = {"success": (30, 90, 255), "collision": (230, 30, 30), "timeout": (255, 170, 0)}
 
 
 def markdown_table(task: str, summary: dict) -> str:
+    """The test phase's summary as a Markdown table (eval.md and the terminal)."""
     lo, hi = summary["success_ci95"]
     avg = summary["avg_steps_success"]
     rows = [
@@ -58,9 +59,7 @@ def draw_trajectories(env, records: list[dict], path: Path) -> None:
         draw.rectangle([6, y + 2, 16, y + 10], fill=color)
         draw.text((22, y), f"{name} ({n})", fill=(255, 255, 255))
         y += 14
-    tmp = path.with_name(f".{path.name}.tmp.png")
-    img.save(tmp)
-    tmp.replace(path)
+    save_figure(img, path)
 
 
 def write_results(out_dir: Path, result: dict, heading: str) -> str:

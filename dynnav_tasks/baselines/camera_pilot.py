@@ -31,6 +31,7 @@ import numpy as np
 import tyro
 
 from dynnav_tasks.camera import CameraSpec
+from dynnav_tasks.outcomes import outcome_of
 from dynnav_tasks.robot import CAMERA_OFFSET
 from dynnav_tasks.world import MOVING_OBSTACLE_COLOR, STATIC_OBSTACLE_COLOR
 
@@ -229,15 +230,13 @@ class PilotResult:
 def run_pilot(task_id: str, seeds, pilot: Optional[CameraPilot] = None, env=None, progress: bool = False) -> PilotResult:
     """Drive ``pilot`` (default ``CameraPilot()``) for one episode per seed on ``task_id``.
 
-    ``env``: an already made ``CPUGymWrapper`` of the task with ``obs_mode="rgb"`` to reuse.
+    ``env``: an already made ``NumpyWrapper`` of the task with ``obs_mode="rgb"`` to reuse.
     """
-    from mani_skill.utils.wrappers.gymnasium import CPUGymWrapper
-
-    from dynnav_tasks import make
+    from dynnav_tasks import NumpyWrapper, make
 
     own = env is None
     if own:
-        env = CPUGymWrapper(make(task_id, obs_mode="rgb"))
+        env = NumpyWrapper(make(task_id, obs_mode="rgb"))
     pilot = pilot or CameraPilot(camera=env.unwrapped.camera_spec)
     seeds = list(seeds)
     outcomes, steps, seen = [], [], []
@@ -256,7 +255,7 @@ def run_pilot(task_id: str, seeds, pilot: Optional[CameraPilot] = None, env=None
                 frame, _, terminated, truncated, info = env.step(pilot.act(frame))
                 n += 1
                 done = terminated or truncated
-            outcomes.append("success" if info["success"] else "collision" if info["collision"] else "timeout")
+            outcomes.append(outcome_of(info, terminated))
             steps.append(n)
             seen.append(in_view / n)
     finally:

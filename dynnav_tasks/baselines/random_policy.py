@@ -21,23 +21,15 @@ class Args:
     seed: int = 0
     """seed of the first episode; episode i uses seed + i"""
     reward_mode: str = "distance_orientation_always"
-    """one of dynnav_tasks.rewards.REWARD_MODES"""
-
-
-def outcome(info: dict) -> str:
-    if info["success"]:
-        return "success"
-    if info["collision"]:
-        return "collision"
-    return "timeout"
+    """one of dynnav_tasks.rewards.SUPPORTED_REWARD_MODES"""
 
 
 def main(args: Args) -> None:
+    """Roll out ``args.episodes`` random episodes and print a line per episode and a summary."""
     import dynnav_tasks
-    from mani_skill.utils.wrappers.gymnasium import CPUGymWrapper
 
     try:
-        env = CPUGymWrapper(dynnav_tasks.make(args.task, reward_mode=args.reward_mode))
+        env = dynnav_tasks.NumpyWrapper(dynnav_tasks.make(args.task, reward_mode=args.reward_mode))
     except ValueError as err:
         raise SystemExit(f"error: {err}")
     rng = np.random.default_rng(args.seed)
@@ -52,7 +44,7 @@ def main(args: Args) -> None:
             ret += float(reward)
             steps += 1
             done = bool(terminated or truncated)
-        result = outcome(info)
+        result = dynnav_tasks.outcome_of(info, terminated)
         counts[result] = counts.get(result, 0) + 1
         steps_total += steps
         print(f"{ep:>7} {args.seed + ep:>6} {result:>9} {steps:>5} {ret:>8.2f} "

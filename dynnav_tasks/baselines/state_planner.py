@@ -32,6 +32,7 @@ import numpy as np
 import tyro
 
 from dynnav_tasks.motion import BackAndForth, RandomInRect, Route, Static, wrap_angle
+from dynnav_tasks.outcomes import outcome_of
 from dynnav_tasks.robot import FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH
 
 FORWARD, LEFT, RIGHT = 0, 1, 2
@@ -87,9 +88,9 @@ def _reach(spec, p, prev, steps):
         pts = [[c + o * d for o in offs] for offs in paths]
         return [(np.min([q[k] for q in pts], 0), np.max([q[k] for q in pts], 0)) for k in range(steps + 1)]
     if isinstance(spec, Route):
-        s0, length = _arc_position(spec, p), spec.length()
+        s0, length = spec.nearest_arc_length(p), spec.length()
         if prev is not None:
-            v = (s0 - _arc_position(spec, prev)) % length
+            v = (s0 - spec.nearest_arc_length(prev)) % length
             lo_v = hi_v = v
         else:
             lo_v, hi_v = spec.speed_range
@@ -111,16 +112,6 @@ def _back_and_forth(offset, sign, speed, amplitude, steps):
         offset = s
         offs.append(offset)
     return offs
-
-
-def _arc_position(route: Route, p) -> float:
-    """Arc length of the route point nearest to ``p``."""
-    pts, seg, cum = route._geometry
-    a, b = pts[:-1], pts[1:]
-    t = np.clip(np.einsum("ij,ij->i", p - a, b - a) / seg**2, 0, 1)
-    d = np.linalg.norm(a + (b - a) * t[:, None] - p, axis=1)
-    i = int(np.argmin(d))
-    return float(cum[i] - seg[i] + t[i] * seg[i])
 
 
 def _hits(x, y, boxes, clearance_sq) -> bool:
@@ -234,11 +225,9 @@ class PlannerResult:
 
 def run_planner(task_id: str, seeds, progress: bool = False, **planner_kwargs) -> PlannerResult:
     """One episode per seed of ``task_id`` driven by a ``StatePlanner``."""
-    from mani_skill.utils.wrappers.gymnasium import CPUGymWrapper
+    from dynnav_tasks import NumpyWrapper, make
 
-    from dynnav_tasks import make
-
-    env = CPUGymWrapper(make(task_id, obs_mode="state"))
+    env = NumpyWrapper(make(task_id, obs_mode="state"))
     base = env.unwrapped
     drive = base.drive_config
     planner = StatePlanner(base.world, forward_step=drive.forward_step, turn_step=drive.turn_step,
@@ -258,7 +247,7 @@ def run_planner(task_id: str, seeds, progress: bool = False, **planner_kwargs) -
                 yaw = float(base.agent.pose2d()[2])
                 obs, _, terminated, truncated, info = env.step(planner.act(obs, yaw))
                 done = terminated or truncated
-            outcomes.append("success" if info["success"] else "collision" if info["collision"] else "timeout")
+            outcomes.append(outcome_of(info, terminated))
     finally:
         env.close()
     return PlannerResult(task_id, outcomes)

@@ -96,13 +96,10 @@ def annotated_top_down(env) -> Image.Image:
 
 def camera_strip(task_id: str, seed: int, frames: int = 6, every: int = 4, scale: int = 4) -> Image.Image:
     """Front-camera frames of one episode driven by the camera-only pilot, side by side."""
-    from mani_skill.utils.wrappers.gymnasium import CPUGymWrapper
-
     import dynnav_tasks
-
     from dynnav_tasks.baselines.camera_pilot import CameraPilot
 
-    env = CPUGymWrapper(dynnav_tasks.make(task_id, obs_mode="rgb"))
+    env = dynnav_tasks.NumpyWrapper(dynnav_tasks.make(task_id, obs_mode="rgb"))
     obs, _ = env.reset(seed=seed)
     base, shots, step = env.unwrapped, [obs], 0
     pilot = CameraPilot(camera=base.camera_spec)
@@ -122,13 +119,12 @@ def camera_strip(task_id: str, seed: int, frames: int = 6, every: int = 4, scale
 
 
 def main(args: Args) -> None:
-    from mani_skill.utils.wrappers.gymnasium import CPUGymWrapper
-
+    """Write every task's picture, and the camera worlds' frame strips, into ``args.out``."""
     import dynnav_tasks
 
     args.out.mkdir(parents=True, exist_ok=True)
     for task_id in dynnav_tasks.TASK_IDS:
-        env = CPUGymWrapper(dynnav_tasks.make(task_id))
+        env = dynnav_tasks.NumpyWrapper(dynnav_tasks.make(task_id))
         env.reset(seed=args.seed)
         path = args.out / f"{task_id}.png"
         annotated_top_down(env).save(path)

@@ -41,6 +41,7 @@ import numpy as np
 import rerun as rr
 import rerun.blueprint as rrb
 
+from dynnav_tasks.outcomes import outcome_of
 from dynnav_tasks.robot import CAMERA_OFFSET, FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH, LASER_HEIGHT
 from dynnav_tasks.scene import TARGET_DISC_RADIUS
 from dynnav_tasks.world import MOVING_OBSTACLE_COLOR, STATIC_OBSTACLE_COLOR, TARGET_COLOR, WALL_COLORS
@@ -140,8 +141,8 @@ class Recorder:
             rec.log("agent/reconstruction", rr.Image(np.asarray(reconstruction)))
 
     def end_episode(self, info: dict) -> str:
-        """Log the episode's outcome (from the last step's ``info``) and return it."""
-        outcome = "success" if info["success"] else "collision" if info["collision"] else "timeout"
+        """Log the episode's outcome (``outcomes.outcome_of`` the last step's ``info``) and return it."""
+        outcome = outcome_of(info)
         level = rr.TextLogLevel.INFO if outcome == "success" else rr.TextLogLevel.WARN
         self.rec.log("episode/outcome", rr.TextLog(f"episode {self.episode}: {outcome}", level=level))
         return outcome
