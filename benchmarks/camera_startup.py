@@ -20,7 +20,6 @@ CHILD = r"""
 import gc, json, os, sys, time
 os.environ.setdefault("MS_RENDERER_LOG_LEVEL", "error")
 import dynnav_tasks
-from mani_skill.utils.wrappers.gymnasium import CPUGymWrapper
 
 task, keep = sys.argv[1], sys.argv[2] == "1"
 if not keep:
@@ -29,7 +28,7 @@ if not keep:
 times = []
 for _ in range(2):
     start = time.perf_counter()
-    env = CPUGymWrapper(dynnav_tasks.make(task, obs_mode="rgb"))
+    env = dynnav_tasks.NumpyWrapper(dynnav_tasks.make(task, obs_mode="rgb"))
     env.reset(seed=0)
     times.append(time.perf_counter() - start)
     env.close()

@@ -19,12 +19,10 @@ from machine import cpu_name, pin_one_core
 
 
 def steps_per_second(task_id: str, steps: int, obs_mode: str, record_to: Path | None) -> tuple[float, float]:
-    from mani_skill.utils.wrappers.gymnasium import CPUGymWrapper
-
     import dynnav_tasks
     from dynnav_tasks.viz.recording import Recorder
 
-    env = CPUGymWrapper(dynnav_tasks.make(task_id, obs_mode=obs_mode))
+    env = dynnav_tasks.NumpyWrapper(dynnav_tasks.make(task_id, obs_mode=obs_mode))
     recorder = Recorder(record_to) if record_to is not None else None
     rng = np.random.default_rng(0)
     env.reset(seed=0)

@@ -47,9 +47,8 @@ def test_reconstruction_loss_is_eq_4_10():
 def rendered_frames():
     """64 camera frames from random episodes of world 5.5a."""
     import dynnav_tasks
-    from mani_skill.utils.wrappers.gymnasium import CPUGymWrapper
 
-    env = CPUGymWrapper(dynnav_tasks.make("DynNav-VisualStaticTarget-v1", obs_mode="rgb"))
+    env = dynnav_tasks.NumpyWrapper(dynnav_tasks.make("DynNav-VisualStaticTarget-v1", obs_mode="rgb"))
     rng = np.random.default_rng(0)
     frames, seed = [], 0
     obs, _ = env.reset(seed=seed)

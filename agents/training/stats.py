@@ -15,6 +15,8 @@ import math
 
 import numpy as np
 
+from dynnav_tasks.outcomes import OUTCOMES
+
 
 def wilson_interval(successes: int, n: int, z: float = 1.96) -> tuple[float, float]:
     """The Wilson score interval of a binomial proportion (95% for z = 1.96)."""
@@ -28,12 +30,16 @@ def wilson_interval(successes: int, n: int, z: float = 1.96) -> tuple[float, flo
 
 
 def spl(success: bool, shortest: float, driven: float) -> float:
+    """One episode's SPL term: ``shortest / max(driven, shortest)`` on success, else 0."""
     return round(shortest / max(driven, shortest, 1e-9), 4) if success else 0.0
 
 
 def summarize(records: list[dict], epsilon: float = 0.0) -> dict:
+    """The test phase's summary of its episode records (each with ``outcome``, ``steps``, ``ret``
+    and, for dynnav tasks, ``spl``): the rate of each outcome, the success rate's Wilson interval,
+    the average steps of successes, the average return and the SPL."""
     n = len(records)
-    count = {k: sum(r["outcome"] == k for r in records) for k in ("success", "collision", "timeout", "terminated")}
+    count = {k: sum(r["outcome"] == k for r in records) for k in OUTCOMES}
     lo, hi = wilson_interval(count["success"], n)
     steps = [r["steps"] for r in records if r["outcome"] == "success"]
     summary = dict(
