@@ -9,7 +9,8 @@ Importing the package registers every task with ManiSkill and gymnasium::
     env = dynnav_tasks.NumpyWrapper(env)                          # plain gymnasium: numpy, unbatched
 
 ``dynnav_tasks.make`` does the same as ``gym.make`` and, for an unknown task id, lists the
-valid ones. ``gym.make_vec(task_id, num_envs=n)`` gives observations of shape
+valid ones. ``TASK_IDS`` are the thesis's nine fixed worlds; ``PROCEDURAL_TASK_IDS`` the tasks
+that generate a new world every episode (``DynNav-Procedural-v1``). ``gym.make_vec(task_id, num_envs=n)`` gives observations of shape
 ``(n, state size)``; gymnasium's "sync" and "async" modes do with
 ``wrappers=[dynnav_tasks.NumpyWrapper]`` (see ``registration.py``). ``outcome_of(info,
 terminated)`` names how an episode ended (``outcomes.py``).
@@ -28,15 +29,20 @@ from .registration import register_with_gymnasium
 from .snapshot import StepSnapshot
 from .wrappers import NumpyWrapper
 
-TASK_IDS = tuple(uid for uid, spec in REGISTERED_ENVS.items() if issubclass(spec.cls, NavEnv))
-"""Every dynnav task id, in the thesis's order of worlds (5.1, 5.2, 5.3, 5.4a-c, 5.5a-c)."""
+_NAV_TASKS = tuple(uid for uid, spec in REGISTERED_ENVS.items() if issubclass(spec.cls, NavEnv))
+PROCEDURAL_TASK_IDS = tuple(uid for uid in _NAV_TASKS if issubclass(REGISTERED_ENVS[uid].cls, tasks.ProceduralEnv))
+"""The tasks whose world is generated anew every episode (``tasks/procedural.py``)."""
+TASK_IDS = tuple(uid for uid in _NAV_TASKS if uid not in PROCEDURAL_TASK_IDS)
+"""The thesis's worlds, in its order (5.1, 5.2, 5.3, 5.4a-c, 5.5a-c): one fixed world each."""
 VISUAL_TASK_IDS = tuple(uid for uid in TASK_IDS if REGISTERED_ENVS[uid].cls.camera_world)
 """The camera worlds of the thesis (5.5a-c)."""
-register_with_gymnasium(TASK_IDS)
+ALL_TASK_IDS = TASK_IDS + PROCEDURAL_TASK_IDS
+"""Every dynnav task id: the thesis's worlds, then the procedural ones."""
+register_with_gymnasium(ALL_TASK_IDS)
 
 __all__ = [
-    "NavEnv", "NumpyWrapper", "OUTCOMES", "StepSnapshot", "TASK_IDS", "VISUAL_TASK_IDS", "check_choice", "make",
-    "outcome_of",
+    "ALL_TASK_IDS", "NavEnv", "NumpyWrapper", "OUTCOMES", "PROCEDURAL_TASK_IDS", "StepSnapshot", "TASK_IDS",
+    "VISUAL_TASK_IDS", "check_choice", "make", "outcome_of",
 ]
 
 
@@ -44,5 +50,5 @@ def make(task_id: str, **kwargs):
     """``gymnasium.make(task_id, **kwargs)`` with a clear error for an unknown task id."""
     import gymnasium as gym
 
-    check_choice(task_id, TASK_IDS, "task id")
+    check_choice(task_id, ALL_TASK_IDS, "task id")
     return gym.make(task_id, **kwargs)

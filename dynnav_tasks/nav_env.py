@@ -24,6 +24,7 @@ Reward
 State observation (``obs_mode="state"``), float32, in this order (see ``state_layout()``
 and ``observations.py`` for the camera's):
     16 laser readings (m) | robot x, y | target x, y | x, y of each moving obstacle
+(the procedural task observes the egocentric state instead, ``egocentric.py``).
 
 Step
     One control step is 0.2 s (``control_freq`` 5 Hz) simulated as 4 PhysX steps of 50 ms.
@@ -51,7 +52,7 @@ from .errors import check_choice
 from .motion import EpisodeMotion
 from .observations import OBS_MODES, Observations
 from .robot import FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH, DiffBot, DriveConfig
-from .scene import HIDDEN_Z, add_lighting, build_world
+from .scene import HIDDEN_Z, BuiltWorld, add_lighting, build_world
 from .sensing import Sensing
 from .snapshot import StepSnapshot
 from .viz.top_down import TopDownView
@@ -103,9 +104,7 @@ class NavEnv(Observations, TopDownView, BaseEnv):
                 "use gymnasium's vector environments for several."
             )
         self.reward_params = R.RewardParams.from_dict({**self.default_reward_params, **(reward_params or {})})
-        self.reward_bound = R.dense_bound(
-            self.reward_params, self.world.span(), min(FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH)
-        )
+        self.reward_bound = self.reward_bound_of(self.world)
         """the largest |reward| of reward_mode "dense"; "normalized_dense" divides by it (``rewards.py``)"""
         self.drive_config = DriveConfig(
             forward_step=forward_step, turn_step=turn_step, turn_forward_step=turn_forward_step
@@ -124,6 +123,11 @@ class NavEnv(Observations, TopDownView, BaseEnv):
             render_backend=render_backend,
             **kwargs,
         )
+
+    def reward_bound_of(self, world: World) -> float:
+        """The largest |reward| of reward_mode "dense" in ``world`` with this task's reward
+        parameters (``rewards.dense_bound``)."""
+        return R.dense_bound(self.reward_params, world.span(), min(FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH))
 
     # ------------------------------------------------------------------ configuration
     @property
@@ -152,7 +156,17 @@ class NavEnv(Observations, TopDownView, BaseEnv):
         add_lighting(self.scene)  # even: every surface shows its palette colour
 
     def _load_scene(self, options: dict):
-        built = build_world(self.scene, self.world)
+        self._px = self.scene.px
+        self._sensing = Sensing(self._px, self.agent.robot, collision_margin=self.collision_margin)
+        self._use_world(self._build_world())
+
+    def _build_world(self) -> BuiltWorld:
+        """Add the bodies of ``self.world`` to the scene, once (``scene.build_world``)."""
+        return build_world(self.scene, self.world)
+
+    def _use_world(self, built: BuiltWorld):
+        """Move, sense and draw the bodies of ``built``, the scene's bodies of ``self.world``,
+        from the next reset on (a task whose world changes between episodes calls it again)."""
         self._movers = built.movers
         self._moving_bodies, self._moving_z = built.moving_bodies, built.moving_z
         n_sub, n_moving = self._sim_steps_per_control, len(self._moving_bodies)
@@ -163,15 +177,7 @@ class NavEnv(Observations, TopDownView, BaseEnv):
         self._kinematic_rows = [list(rows) for rows in kinematic]
         self._kinematic_pose = sapien.Pose()
         self._targets = built.targets
-        self._px = self.scene.px
-        self._sensing = Sensing(
-            self._px,
-            self.agent.robot,
-            walls=self.world.arena.walls().values(),
-            static_xy=built.static_obstacle_xy,
-            obstacle_half=built.obstacle_half,
-            collision_margin=self.collision_margin,
-        )
+        self._sensing.set_obstacles(self.world.arena.walls().values(), built.static_obstacle_xy, built.obstacle_half)
 
     # ------------------------------------------------------------------ episodes
     def _initialize_episode(self, env_idx: torch.Tensor, options: dict):
@@ -187,10 +193,11 @@ class NavEnv(Observations, TopDownView, BaseEnv):
             else:
                 entity.set_pose(sapien.Pose([xy[0], xy[1], HIDDEN_Z]))  # out of sight under the floor
         moving = []
+        moving_z = iter(self._moving_z)
         for mover, bodies in self._movers:
             xy = mover.reset(rng)
             for body, p in zip(bodies, xy):
-                pose = sapien.Pose([p[0], p[1], body.entity.pose.p[2]])
+                pose = sapien.Pose([p[0], p[1], next(moving_z)])
                 body.entity.set_pose(pose)
                 body.set_kinematic_target(pose)
             moving.append(xy)

@@ -10,7 +10,8 @@
 =============  ===================================================================
 
 The state vector is read from the step's ``StepSnapshot``; the frame is rendered when the
-observation is made.
+observation is made. A task may observe another state vector by overriding ``state_vector``,
+``state_space`` and ``state_layout`` (the procedural task's egocentric state, ``egocentric.py``).
 """
 
 from __future__ import annotations
@@ -42,15 +43,19 @@ class Observations:
 
     @cached_property
     def single_observation_space(self) -> gym.spaces.Space:
-        """state: lasers in [0, range], positions within the walls; rgb: uint8 (H, W, 3)."""
+        """state: ``state_space()``; rgb: uint8 (H, W, 3)."""
+        state = self.state_space()
+        n = self.camera_spec.size
+        rgb = gym.spaces.Box(0, 255, (n, n, 3), dtype=np.uint8)
+        return {"state": state, "rgb": rgb, "rgb+state": gym.spaces.Dict(rgb=rgb, state=state)}[self._obs_mode]
+
+    def state_space(self) -> gym.spaces.Box:
+        """The state vector's space: lasers in [0, range], positions within the walls."""
         (x0, x1), (y0, y1) = self.world.arena.x_range, self.world.arena.y_range
         n_lasers, n_pos = len(self._sensing.lasers.angles), self.world.moving_obstacle_count + 2
         low = np.array([0.0] * n_lasers + [x0, y0] * n_pos, dtype=np.float32)
         high = np.array([self._sensing.lasers.max_range] * n_lasers + [x1, y1] * n_pos, dtype=np.float32)
-        state = gym.spaces.Box(low, high, dtype=np.float32)
-        n = self.camera_spec.size
-        rgb = gym.spaces.Box(0, 255, (n, n, 3), dtype=np.uint8)
-        return {"state": state, "rgb": rgb, "rgb+state": gym.spaces.Dict(rgb=rgb, state=state)}[self._obs_mode]
+        return gym.spaces.Box(low, high, dtype=np.float32)
 
     def state_layout(self) -> list[tuple[str, int]]:
         """Names and sizes of the parts of the state vector, in order."""

@@ -62,19 +62,44 @@ class BuiltWorld:
     """(mover, disc entity) per candidate target"""
 
 
-def _material(rgba) -> sapien.render.RenderMaterial:
+def material(rgba) -> sapien.render.RenderMaterial:
     """A material that renders as the sRGB colour ``rgba`` under ``add_lighting``."""
     linear = [float(c) ** 2.2 for c in rgba[:3]]  # the shader outputs colour ** (1 / 2.2)
     return sapien.render.RenderMaterial(base_color=[*linear, float(rgba[3])])
 
 
-def _box(scene, name, center, half_size, height, color, moving):
+def add_box(scene, name, center, half_size, height, color, moving, z=None):
+    """A box standing on the floor at ``center`` (x, y) (or with its centre at height ``z``):
+    static, or kinematic when ``moving``. ManiSkill puts it back there when the scene is set up."""
     b = scene.create_actor_builder()
     half = [float(half_size[0]), float(half_size[1]), height / 2]
     b.add_box_collision(half_size=half)
-    b.add_box_visual(half_size=half, material=_material(color))
-    b.initial_pose = sapien.Pose([float(center[0]), float(center[1]), height / 2])
+    b.add_box_visual(half_size=half, material=material(color))
+    b.initial_pose = sapien.Pose([float(center[0]), float(center[1]), height / 2 if z is None else float(z)])
     return b.build_kinematic(name) if moving else b.build_static(name)
+
+
+def add_target(scene, name: str, marker: bool, position) -> sapien.Entity:
+    """A target: a red disc on the floor and, with ``marker``, the red column standing on it
+    (``TargetMarker``); visual only (no collision shape), kinematic, at ``position`` (x, y, z)."""
+    b = scene.create_actor_builder()
+    upright = [0.7071068, 0, 0.7071068, 0]  # SAPIEN's cylinder axis x -> world z
+    b.add_cylinder_visual(
+        sapien.Pose([0, 0, 0.002], upright),
+        radius=TARGET_DISC_RADIUS,
+        half_length=0.002,
+        material=material(TARGET_COLOR),
+    )
+    if marker:
+        m = TARGET_MARKER
+        b.add_cylinder_visual(
+            sapien.Pose([0, 0, m.height / 2], upright),
+            radius=m.radius,
+            half_length=m.height / 2,
+            material=material(TARGET_COLOR),
+        )
+    b.initial_pose = sapien.Pose(position)
+    return sapien_object(b.build_kinematic(name))
 
 
 def build_world(scene, world: World) -> BuiltWorld:
@@ -86,11 +111,11 @@ def build_world(scene, world: World) -> BuiltWorld:
     b.add_box_visual(
         sapien.Pose([*arena.center, -0.01]),
         half_size=[*(arena.size / 2 + arena.wall_thickness), 0.01],
-        material=_material(FLOOR_COLOR),
+        material=material(FLOOR_COLOR),
     )
     b.build_static("floor")
     for side, (center, half) in arena.walls().items():
-        _box(scene, f"wall_{side}", center, half, arena.wall_height, WALL_COLORS[side], moving=False)
+        add_box(scene, f"wall_{side}", center, half, arena.wall_height, WALL_COLORS[side], moving=False)
 
     # obstacles: static boxes, or kinematic boxes moved by their motion's mover
     movers, moving_bodies, moving_z, static_xy, static_half, moving_half = [], [], [], [], [], []
@@ -100,7 +125,7 @@ def build_world(scene, world: World) -> BuiltWorld:
         start = mover.reset(np.random.default_rng(0))
         bodies = []
         for i in range(group.count):
-            actor = _box(scene, f"obstacle{g}_{i}", start[i], group.half_size, group.height, color, group.moving)
+            actor = add_box(scene, f"obstacle{g}_{i}", start[i], group.half_size, group.height, color, group.moving)
             if group.moving:
                 bodies.append(physx_body(actor))
                 moving_z.append(group.height / 2)
@@ -114,25 +139,9 @@ def build_world(scene, world: World) -> BuiltWorld:
 
     # targets: red discs (and, in camera worlds, red columns) with no collision shape
     targets = []
-    upright = [0.7071068, 0, 0.7071068, 0]  # SAPIEN's cylinder axis x -> world z
     for t, spec in enumerate(world.targets):
-        b = scene.create_actor_builder()
-        b.add_cylinder_visual(
-            sapien.Pose([0, 0, 0.002], upright),
-            radius=TARGET_DISC_RADIUS,
-            half_length=0.002,
-            material=_material(TARGET_COLOR),
-        )
-        if world.target_marker:
-            m = TARGET_MARKER
-            b.add_cylinder_visual(
-                sapien.Pose([0, 0, m.height / 2], upright),
-                radius=m.radius,
-                half_length=m.height / 2,
-                material=_material(TARGET_COLOR),
-            )
-        b.initial_pose = sapien.Pose([*spec.extent()[0], HIDDEN_Z])
-        targets.append((spec.mover(), sapien_object(b.build_kinematic(f"target{t}"))))
+        entity = add_target(scene, f"target{t}", world.target_marker, [*spec.extent()[0], HIDDEN_Z])
+        targets.append((spec.mover(), entity))
 
     return BuiltWorld(
         movers=movers,

@@ -184,7 +184,7 @@ class Config:
     config: Optional[str] = None
     """YAML file of settings to start from (with --resume: the run's config.yaml); flags override it"""
     task: str = "DynNav-MovingTarget-v1"
-    """gymnasium task id: a dynnav task (dynnav_tasks.TASK_IDS) or any env with Discrete actions and a Box state"""
+    """gymnasium task id: a dynnav task (dynnav_tasks.ALL_TASK_IDS) or any env with Discrete actions and a Box state"""
     name: str = "dqn"
     """experiment name, part of the run directory runs/<task>__<name>__<seed>__<time> (default: the
     --config file's own name: field, else its file name without .yaml; never taken from a base:)"""

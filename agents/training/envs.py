@@ -20,7 +20,7 @@ def dynnav_ids() -> tuple[str, ...]:
     """The registered dynnav task ids."""
     import dynnav_tasks
 
-    return tuple(dynnav_tasks.TASK_IDS)
+    return tuple(dynnav_tasks.ALL_TASK_IDS)
 
 
 def is_dynnav(task: str) -> bool:

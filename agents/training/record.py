@@ -66,7 +66,7 @@ def record(args: Args) -> list[tuple[str, int]]:
         act = greedy(policy.q_values, int(env.action_space.n))
         print(f"{task}: greedy policy of {args.checkpoint}")
     else:
-        dynnav_tasks.check_choice(args.task, dynnav_tasks.TASK_IDS, "task id")
+        dynnav_tasks.check_choice(args.task, dynnav_tasks.ALL_TASK_IDS, "task id")
         recorder = open_recorder(args.out, args.task, spawn=args.spawn, required=True)  # checks the path before any work
         obs_mode = args.obs_mode or ("rgb+state" if args.task in dynnav_tasks.VISUAL_TASK_IDS else "state")
         env, views, act = dynnav_tasks.NumpyWrapper(dynnav_tasks.make(args.task, obs_mode=obs_mode)), None, None

@@ -1,0 +1,104 @@
+"""The egocentric state: an observation that means the same in every world.
+
+The study's state vectors hold absolute coordinates and one slot per moving obstacle of their
+world, so their size and meaning change from world to world. The egocentric state is read in
+the robot's own frame (x ahead, y to the left) and has one size for a given ``k``, whatever
+the world, so a network trained in one world reads any other. Float32, in this order
+(``egocentric_layout``):
+
+====================  ======================================================================
+part                  meaning
+====================  ======================================================================
+``lasers`` (16)       the laser ring's readings (m), ray 0 straight ahead, as in every task
+``target`` (3)        distance to the target's centre (m), sin and cos of its bearing (the
+                      bearing is the ``StepSnapshot``'s: > 0 to the left; sin/cos has no
+                      jump at +-pi)
+``obstacle{i}`` (5)   for i < k, the i-th nearest moving obstacle (by squared centre
+                      distance, ties in the world's order): x, y of its centre relative to the robot (m),
+                      vx, vy of its velocity relative to the robot over the last step (m per
+                      control step; 0 right after a reset or ``place_robot``: nothing moved
+                      yet), all in the robot's frame, then 1.0 (present). A slot with no
+                      obstacle left to fill it holds ``PADDING``: (FAR, 0, 0, 0, 0.0), an
+                      obstacle-free slot as far away as nothing in any arena can be
+====================  ======================================================================
+
+Relative velocity: the obstacle's displacement over the step minus the robot's, turned into
+the robot's heading after the step. Positions are clipped to [-FAR, FAR] (no arena is wider
+than 28.3 m across) and velocities to [-MAX_RELATIVE_STEP, MAX_RELATIVE_STEP], so the
+observation always lies in ``egocentric_space``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import gymnasium as gym
+import numpy as np
+
+from .snapshot import StepSnapshot
+
+FAR = 30.0
+"""metres: the largest relative coordinate and target distance; a padded slot's x"""
+MAX_RELATIVE_STEP = 3.0
+"""metres per control step: the largest relative velocity component"""
+OBSTACLE_FIELDS = ("x", "y", "vx", "vy", "present")
+PADDING = np.array([FAR, 0.0, 0.0, 0.0, 0.0], dtype=np.float32)
+"""the fields of an empty obstacle slot"""
+
+
+def egocentric_layout(num_lasers: int, k: int) -> list[tuple[str, int]]:
+    """Names and sizes of the egocentric state's parts, in order."""
+    return [("lasers", num_lasers), ("target", 3)] + [(f"obstacle{i}", len(OBSTACLE_FIELDS)) for i in range(k)]
+
+
+def egocentric_space(num_lasers: int, laser_range: float, k: int) -> gym.spaces.Box:
+    """The egocentric state's observation space (bounds as the module docstring gives)."""
+    slot_low = [-FAR, -FAR, -MAX_RELATIVE_STEP, -MAX_RELATIVE_STEP, 0.0]
+    slot_high = [FAR, FAR, MAX_RELATIVE_STEP, MAX_RELATIVE_STEP, 1.0]
+    low = np.array([0.0] * num_lasers + [0.0, -1.0, -1.0] + slot_low * k, dtype=np.float32)
+    high = np.array([laser_range] * num_lasers + [FAR, 1.0, 1.0] + slot_high * k, dtype=np.float32)
+    return gym.spaces.Box(low, high, dtype=np.float32)
+
+
+def egocentric_state(snapshot: StepSnapshot, before: StepSnapshot | None, k: int) -> np.ndarray:
+    """The egocentric state of ``snapshot`` (module docstring); ``before``: the snapshot
+    before the step that led to it (``None`` after a reset or a placement: velocities 0).
+    Plain Python over the few obstacles: faster than numpy at these sizes."""
+    x, y, yaw = snapshot.pose
+    n = len(snapshot.lasers)
+    out = np.empty(n + 3 + len(PADDING) * k, dtype=np.float32)
+    out[:n] = snapshot.lasers
+    bearing = snapshot.bearing
+    tail = [min(snapshot.d1, FAR), math.sin(bearing), math.cos(bearing)]
+    if k:
+        tail += _nearest_obstacles(snapshot, before, k, x, y, yaw)
+    out[n:] = tail
+    return out
+
+
+def _nearest_obstacles(snapshot: StepSnapshot, before: StepSnapshot | None, k: int, x: float, y: float, yaw: float):
+    """The ``k`` obstacle slots, flat (``OBSTACLE_FIELDS`` each), nearest first, padded."""
+    moving = snapshot.moving_obstacle_xy.tolist()
+    rows = sorted((dx * dx + dy * dy, j, dx, dy) for j, (dx, dy) in enumerate((ox - x, oy - y) for ox, oy in moving))
+    c, s = math.cos(yaw), math.sin(yaw)
+    if before is not None:
+        bx, by, _ = before.pose
+        previous = before.moving_obstacle_xy.tolist()
+        rx, ry = x - bx, y - by  # the robot's displacement over the step
+    slots = []
+    for _, j, dx, dy in rows[:k]:
+        if before is not None:
+            px, py = previous[j]
+            vx, vy = moving[j][0] - px - rx, moving[j][1] - py - ry
+            vx, vy = _clip(c * vx + s * vy, MAX_RELATIVE_STEP), _clip(-s * vx + c * vy, MAX_RELATIVE_STEP)
+        else:
+            vx = vy = 0.0
+        slots += (_clip(c * dx + s * dy, FAR), _clip(-s * dx + c * dy, FAR), vx, vy, 1.0)
+    return slots + _PADDING_LIST * (k - len(rows[:k]))
+
+
+_PADDING_LIST = PADDING.tolist()
+
+
+def _clip(v: float, bound: float) -> float:
+    return bound if v > bound else (-bound if v < -bound else v)
