@@ -1,5 +1,7 @@
 """Rerun recordings: read the file back and check what a viewer would show."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 import rerun.chunk as rc
@@ -41,6 +43,7 @@ def test_state_task_recording(make_env, tmp_path):
                    "/world/obstacles", "/world/target", "/world/robot/camera", "/agent/action",
                    "/agent/reward", "/episode/outcome"):
         assert entity in data, entity
+    assert column(data["/world/walls"], "step") == [0]  # one world: its walls logged once
     # one robot pose per reset and per step, on the step timeline
     steps = column(data["/world/robot"], "step")
     assert len(steps) == sum(n + 1 for n in lengths)
@@ -55,6 +58,57 @@ def test_state_task_recording(make_env, tmp_path):
     outcomes = [row[0] for row in column(data["/episode/outcome"], "TextLog:text")]
     assert outcomes == [f"episode {i}: {o}" for i, (o, _) in enumerate(results)]
     assert "/world/robot/camera/image" not in data  # a state task renders no frames
+
+
+def latest_at(batches, step):
+    """The row a viewer shows at ``step`` on the step timeline: the last one logged at or before it
+    (rows at one step in the order they were logged), as {column: value}."""
+    rows = []
+    for rb in batches:
+        names = [n for n in rb.schema.names if n != "log_time"]  # wall-clock times, not needed here
+        for values in zip(*(rb.column(n).to_pylist() for n in names)):
+            row = dict(zip(names, values))
+            if row["step"] <= step:
+                rows.append(row)
+    return max(rows, key=lambda row: (row["step"], row["rerun.controls.RowId"]))
+
+
+def sorted_rows(points):
+    return sorted(tuple(round(float(v), 3) for v in p) for p in points)
+
+
+def test_generated_worlds_are_relogged_every_episode(make_env, tmp_path):
+    env = make_env("DynNav-Procedural-v1", difficulty="medium")
+    path, worlds, targets, starts = tmp_path / "procedural.rrd", [], [], []
+    with Recorder(path) as recorder:
+        for seed, options in ((0, None), (1, None), (2, "no blocks")):
+            if options:  # the second world without its blocks: the recording must drop them
+                world = worlds[1]
+                options = {"world": dataclasses.replace(world, obstacles=tuple(g for g in world.obstacles if g.moving))}
+            env.reset(seed=seed, options=options)
+            recorder.start_episode(env)
+            starts.append(recorder.step)
+            worlds.append(env.unwrapped.world)
+            targets.append(env.unwrapped.snapshot.target_xy)
+            for _ in range(3):
+                _, reward, terminated, truncated, info = env.step(0)
+                recorder.log_step(env, 0, reward)
+                if terminated or truncated:
+                    break
+    assert worlds[0].arena != worlds[1].arena and worlds[0].moving_obstacle_count != worlds[1].moving_obstacle_count
+    data = read_back(path)
+    for world, target, step in zip(worlds, targets, starts):
+        walls = latest_at(data["/world/walls"], step)["Boxes3D:centers"]
+        assert sorted_rows(w[:2] for w in walls) == sorted_rows(c for c, _ in world.arena.walls().values())
+        blocks = [g.motion.at for g in world.obstacles if not g.moving]
+        shown = latest_at(data["/world/blocks"], step)
+        assert sorted_rows(c[:2] for c in shown.get("Boxes3D:centers") or []) == sorted_rows(blocks)
+        assert ("Clear:is_recursive" in shown) == (not blocks)
+        boxes = latest_at(data["/world/obstacles"], step)["Boxes3D:centers"]
+        assert len(boxes) == world.moving_obstacle_count
+        disc = latest_at(data["/world/target"], step)["Cylinders3D:centers"][0]
+        assert np.allclose(disc[:2], target, atol=1e-5)
+    assert column(data["/world/walls"], "step") == starts  # once per world
 
 
 def test_camera_world_recording(make_env, tmp_path):

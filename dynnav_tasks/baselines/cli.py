@@ -1,11 +1,17 @@
 """What the command-line tools that drive whole episodes share: task selection, seeds, and a
-JSON file of their success rates (``--out``) that ``agents.study.report`` reads."""
+JSON file of their success rates (``--out``) that ``agents.study.report`` reads.
+
+``run_over_tasks`` runs the study's fixed worlds (one entry per task id); ``run_over_cells``
+runs a procedural task over its difficulties and splits (one entry per controller, difficulty
+and split, e.g. ``state_planner/medium/test``, with SPL and the number of worlds played)."""
 
 from __future__ import annotations
 
+import fcntl
 import json
 import os
 import tempfile
+from contextlib import contextmanager
 from typing import Callable, Optional, Sequence
 
 
@@ -16,9 +22,27 @@ def outcome_rates(outcomes: Sequence[str], first_seed: int) -> dict:
                 timeout=outcomes.count("timeout") / n, episodes=n, first_seed=first_seed)
 
 
+@contextmanager
+def _folder_lock(folder: str):
+    """Hold an exclusive lock on ``folder`` (so that two processes merging into one file there
+    take turns instead of losing each other's entries)."""
+    fd = os.open(folder, os.O_RDONLY)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
+    finally:
+        os.close(fd)  # releases the lock
+
+
 def merge_json(path: str, key: str, value: dict) -> None:
     """Set ``path[key] = value`` in a JSON object file (created if missing), written to a
-    temporary file and renamed into place, so the file is never left half written."""
+    temporary file and renamed into place, so the file is never left half written; processes
+    merging into the same file at once take turns."""
+    with _folder_lock(os.path.dirname(os.path.abspath(path))):
+        _merge_json(path, key, value)
+
+
+def _merge_json(path: str, key: str, value: dict) -> None:
     data = {}
     if os.path.exists(path):
         try:
@@ -53,13 +77,44 @@ def run_over_tasks(task: Optional[str], allowed: Sequence[str], what: str, episo
         tasks = [check_choice(task, allowed, what)] if task else list(allowed)
     except ValueError as err:
         raise SystemExit(f"error: {err}")
-    if episodes < 1:
-        raise SystemExit(f"error: --episodes must be >= 1, got {episodes}")
-    if out is not None and not os.path.isdir(os.path.dirname(os.path.abspath(out))):
-        raise SystemExit(f"error: --out {out}: the folder {os.path.dirname(os.path.abspath(out))} does not exist")
+    _check_run(episodes, out)
     seeds = range(first_seed, first_seed + episodes)
     for task_id in tasks:
         result = run(task_id, seeds)
         print(result.summary())
         if out is not None:
             merge_json(out, task_id, outcome_rates(result.outcomes, first_seed))
+
+
+def run_over_cells(task: str, difficulty: Optional[str], split: Optional[str], episodes: int, first_seed: int,
+                   run: Callable[[str, str, range], object], controller: str, out: Optional[str] = None) -> None:
+    """Call ``run(difficulty, split, seeds)`` for ``difficulty`` and ``split`` of the procedural
+    ``task`` (each None: every one) and print each result's ``summary()``; with ``out``, also
+    merge ``"{controller}/{difficulty}/{split}"``: the rates, the task and the result's
+    ``numbers()`` (SPL, steps per success, worlds played) into that JSON file. Bad input exits
+    with a message that names it, before any episode runs."""
+    from dynnav_tasks.errors import check_choice
+    from dynnav_tasks.generation import DIFFICULTIES, SPLITS
+
+    try:
+        difficulties = [check_choice(difficulty, DIFFICULTIES, "difficulty")] if difficulty else list(DIFFICULTIES)
+        splits = [check_choice(split, SPLITS, "split")] if split else list(SPLITS)
+    except ValueError as err:
+        raise SystemExit(f"error: {err}")
+    _check_run(episodes, out)
+    seeds = range(first_seed, first_seed + episodes)
+    for d in difficulties:
+        for s in splits:
+            result = run(d, s, seeds)
+            print(result.summary())
+            if out is not None:
+                merge_json(out, f"{controller}/{d}/{s}", dict(task=task, difficulty=d, split=s,
+                                                               **outcome_rates(result.outcomes, first_seed),
+                                                               **result.numbers()))
+
+
+def _check_run(episodes: int, out: Optional[str]) -> None:
+    if episodes < 1:
+        raise SystemExit(f"error: --episodes must be >= 1, got {episodes}")
+    if out is not None and not os.path.isdir(os.path.dirname(os.path.abspath(out))):
+        raise SystemExit(f"error: --out {out}: the folder {os.path.dirname(os.path.abspath(out))} does not exist")

@@ -19,6 +19,17 @@ Forecasts (``ObstacleForecast``), from the motion specs in ``motion.py``:
 Between two steps an obstacle sweeps the box spanning both positions; the planner keeps clear
 of that, so a fast obstacle cannot pass through the robot between steps. The robot is taken
 as the circle around its footprint (radius 0.295 m).
+
+The search is guided by a lower bound on the steps still needed (``heuristic``): in the study's
+worlds (at most ``STUDY_STATIC_BOXES`` static boxes) the straight line to the target and the
+turn towards it; in worlds of many static blocks (``dynnav_tasks.generation``'s corridors and
+rooms) the way through the static layout on an occupancy grid (``way_grid.py``) and the turn
+towards where that way leads, so that the search follows corridors and doorways instead of
+pushing at the wall between the robot and the target. There the collision check looks only at
+the blocks near each point (``way_grid.StaticBuckets``), which gives the same answer.
+
+``PlannerController`` drives a task with it from the task's public state (``snapshot``,
+``world``), planning anew for each episode's world; ``run_planner`` plays episodes.
 """
 
 from __future__ import annotations
@@ -31,12 +42,15 @@ from typing import Optional
 import numpy as np
 import tyro
 
+from dynnav_tasks.baselines.episodes import ROBOT_RADIUS, EpisodeResults, run_episodes
+from dynnav_tasks.baselines.way_grid import StaticBuckets, WayGrid, static_boxes
 from dynnav_tasks.motion import BackAndForth, RandomInRect, Route, Static, wrap_angle
-from dynnav_tasks.outcomes import outcome_of
-from dynnav_tasks.robot import FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH
 
 FORWARD, LEFT, RIGHT = 0, 1, 2
-ROBOT_RADIUS = math.hypot(FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH)
+HEURISTICS = ("auto", "straight", "way")
+"""``StatePlanner.heuristic``'s choices"""
+STUDY_STATIC_BOXES = 3
+"""the most static boxes a study world has (5.2's three): "auto" takes the straight line up to this"""
 
 
 class ObstacleForecast:
@@ -148,15 +162,23 @@ class StatePlanner:
     remember: bool = True
     """False: forecast from the current state alone (every speed and way a box may have), as an
     agent fed one state vector must; True: also from the previous step's positions"""
+    heuristic: str = "auto"
+    """"straight": the straight line to the target; "way": the way through the static layout
+    on an occupancy grid; "auto": "straight" in worlds of at most ``STUDY_STATIC_BOXES`` static
+    boxes (the study's, where it is what the ceilings were measured with), "way" otherwise"""
 
     def __post_init__(self):
+        if self.heuristic not in HEURISTICS:
+            raise ValueError(f"heuristic must be one of {HEURISTICS}; got {self.heuristic!r}")
         self.forecast = ObstacleForecast(self.world, remember=self.remember)
         arena = self.world.arena
         self._x, self._y = arena.x_range, arena.y_range
-        static = [(np.asarray(g.motion.at, float), np.asarray(g.half_size, float))
-                  for g in self.world.obstacles if not g.moving]
-        self._static = [(*(c - h), *(c + h)) for c, h in static]
+        self._static = static_boxes(self.world)
         self._clearance_sq = self.clearance * self.clearance
+        self.uses_way = self.heuristic == "way" or (self.heuristic == "auto" and len(self._static) > STUDY_STATIC_BOXES)
+        """whether the search follows the way through the static layout (see ``heuristic``)"""
+        self._way = WayGrid(self.world, self.clearance) if self.uses_way else None
+        self._buckets = StaticBuckets(self._static, self._x, self._y, self.clearance) if self.uses_way else None
 
     def reset(self) -> None:
         self.forecast.reset()
@@ -165,7 +187,23 @@ class StatePlanner:
         c = self.clearance
         if not (self._x[0] + c <= x <= self._x[1] - c and self._y[0] + c <= y <= self._y[1] - c):
             return False
-        return not (_hits(x, y, self._static, self._clearance_sq) or _hits(x, y, moving_boxes, self._clearance_sq))
+        static = self._static if self._buckets is None else self._buckets.near(x, y)
+        return not (_hits(x, y, static, self._clearance_sq) or _hits(x, y, moving_boxes, self._clearance_sq))
+
+    def _way_heuristic(self, tx: float, ty: float):
+        """The lower bound of "way": steps along the way through the static layout, and the
+        turn towards where it leads (towards the target once within reach)."""
+        field, fs, ts, reach = self._way.to((tx, ty)), self.forward_step, self.turn_step, self.reach_radius
+
+        def h(x, y, yaw_):
+            d = field.distance(x, y)
+            if math.hypot(tx - x, ty - y) <= reach:
+                return 0.0
+            ax, ay = field.aim(x, y)
+            turn = abs(wrap_angle(math.atan2(ay - y, ax - x) - yaw_))
+            return max(d - reach, 0) / fs + max(turn - ts / 2, 0) / ts
+
+        return h
 
     def act(self, state: np.ndarray, yaw: float) -> int:
         """The first action of the best plan from ``state`` (the task's state vector) and the
@@ -180,6 +218,9 @@ class StatePlanner:
             d = math.hypot(tx - x, ty - y)
             turn = abs(wrap_angle(math.atan2(ty - y, tx - x) - yaw_)) if d > self.reach_radius else 0.0
             return max(d - self.reach_radius, 0) / self.forward_step + max(turn - self.turn_step / 2, 0) / self.turn_step
+
+        if self.uses_way:
+            h = self._way_heuristic(tx, ty)
 
         start = (x0, y0, yaw)
         frontier = [(h(*start), 0, 0, start, None)]
@@ -210,53 +251,45 @@ class StatePlanner:
         return LEFT  # boxed in: turning in place sweeps least
 
 
-@dataclass
-class PlannerResult:
-    task: str
-    outcomes: list
+class PlannerController:
+    """Drives a task with a ``StatePlanner`` built for each episode's world (``run_episodes``'s
+    controller): it reads the task's ``world`` and ``snapshot`` (the study's state vector, which
+    ``snapshot.state_vector()`` gives in every task, and the robot's heading)."""
 
-    def rate(self, outcome: str = "success") -> float:
-        return self.outcomes.count(outcome) / len(self.outcomes)
+    def __init__(self, **planner_kwargs):
+        self.planner_kwargs = planner_kwargs
+        self.planner: Optional[StatePlanner] = None
 
-    def summary(self) -> str:
-        return (f"{self.task}: success {self.rate():.1%}, collision {self.rate('collision'):.1%}, "
-                f"timeout {self.rate('timeout'):.1%} over {len(self.outcomes)} episodes")
+    def start(self, env) -> None:
+        """A new episode: a new planner when the world changed, else the same one reset."""
+        if self.planner is None or self.planner.world is not env.world:
+            drive = env.drive_config
+            self.planner = StatePlanner(env.world, forward_step=drive.forward_step, turn_step=drive.turn_step,
+                                        reach_radius=env.reach_radius, **self.planner_kwargs)
+        self.planner.reset()
+
+    def act(self, env) -> int:
+        """The planner's action for the task's current snapshot."""
+        s = env.snapshot
+        return self.planner.act(s.state_vector(), s.pose[2])
 
 
-def run_planner(task_id: str, seeds, progress: bool = False, **planner_kwargs) -> PlannerResult:
-    """One episode per seed of ``task_id`` driven by a ``StatePlanner``."""
-    from dynnav_tasks import NumpyWrapper, make
-
-    env = NumpyWrapper(make(task_id, obs_mode="state"))
-    base = env.unwrapped
-    drive = base.drive_config
-    planner = StatePlanner(base.world, forward_step=drive.forward_step, turn_step=drive.turn_step,
-                           reach_radius=base.reach_radius, **planner_kwargs)
-    seeds = list(seeds)
-    if progress:
-        from tqdm import tqdm
-
-        seeds = tqdm(seeds, desc=task_id, unit="episode")
-    outcomes = []
-    try:
-        for seed in seeds:
-            obs, _ = env.reset(seed=int(seed))
-            planner.reset()
-            done = False
-            while not done:
-                yaw = float(base.agent.pose2d()[2])
-                obs, _, terminated, truncated, info = env.step(planner.act(obs, yaw))
-                done = terminated or truncated
-            outcomes.append(outcome_of(info, terminated))
-    finally:
-        env.close()
-    return PlannerResult(task_id, outcomes)
+def run_planner(task_id: str, seeds, progress: bool = False, label: Optional[str] = None, task_kwargs=None,
+                **planner_kwargs) -> EpisodeResults:
+    """One episode per seed of ``task_id`` (made with ``task_kwargs``) driven by a ``StatePlanner``."""
+    return run_episodes(label or task_id, task_id, seeds, PlannerController(**planner_kwargs), progress=progress,
+                        **(task_kwargs or {}))
 
 
 @dataclass
 class Args:
     task: Optional[str] = None
-    """task to plan in (default: every task)"""
+    """task to plan in (default: every study task); DynNav-Procedural-v1 runs its difficulties
+    and splits"""
+    difficulty: Optional[str] = None
+    """with a procedural task: "easy", "medium" or "hard" (default: each)"""
+    split: Optional[str] = None
+    """with a procedural task: "train", "test" or "ood" (default: each)"""
     episodes: int = 200
     """episodes per task (seeds first_seed .. first_seed + episodes - 1)"""
     first_seed: int = 0
@@ -268,17 +301,27 @@ class Args:
     (the information an agent fed one state vector has)"""
     out: Optional[str] = None
     """also write each task's success, collision and timeout rates into this JSON file (merged
-    with what it holds, one entry per task), e.g. docs/results/ceilings.json for agents.study.report"""
+    with what it holds, one entry per task), e.g. docs/results/ceilings.json for agents.study.report;
+    with a procedural task one entry per difficulty and split, e.g. docs/results/procedural_ceilings.json"""
 
 
 def main(args: Args) -> None:
-    from dynnav_tasks import TASK_IDS
-    from dynnav_tasks.baselines.cli import run_over_tasks
+    """Run the planner over the tasks (or a procedural task's difficulties and splits) ``args`` names."""
+    from dynnav_tasks import PROCEDURAL_TASK_IDS, TASK_IDS
+    from dynnav_tasks.baselines.cli import run_over_cells, run_over_tasks
 
+    planner = dict(max_expansions=args.max_expansions, remember=not args.memoryless)
+    if args.task in PROCEDURAL_TASK_IDS:
+        run_over_cells(args.task, args.difficulty, args.split, args.episodes, args.first_seed,
+                       lambda d, s, seeds: run_planner(args.task, seeds, progress=True, label=f"{args.task} {d} {s}",
+                                                       task_kwargs=dict(difficulty=d, split=s), **planner),
+                       controller="state_planner", out=args.out)
+        return
+    if args.difficulty or args.split:
+        raise SystemExit(f"error: --difficulty and --split apply to a procedural task ({', '.join(PROCEDURAL_TASK_IDS)})")
     run_over_tasks(args.task, TASK_IDS, "task id", args.episodes, args.first_seed,
-                   lambda task, seeds: run_planner(task, seeds, progress=True, max_expansions=args.max_expansions,
-                                                       remember=not args.memoryless),
-                   out=args.out)
+                   lambda task, seeds: run_planner(task, seeds, progress=True, **planner), out=args.out)
+
 
 if __name__ == "__main__":
     main(tyro.cli(Args))

@@ -8,8 +8,9 @@ with the ``episode`` timeline set alongside:
 entity                           what
 ===============================  ==========================================================
 ``world``                        right-handed, z up (static)
-``world/walls``                  the four walls as boxes, coloured by side (static)
-``world/obstacles``              every obstacle box at its current position
+``world/walls``                  the four walls as boxes, coloured by side (when the world changes)
+``world/blocks``                 the static blocks (when the world changes; cleared if none)
+``world/obstacles``              every moving box at its current position
 ``world/target``                 the chosen target's disc
 ``world/robot``                  the robot's transform (x, y, yaw); ``body`` is its footprint
 ``world/robot/lasers``           16 line strips from the laser ring to the readings
@@ -24,6 +25,12 @@ entity                           what
 ``training/*``                   return, loss, epsilon, success rate on the ``episode``
                                  timeline (``log_training``)
 ===============================  ==========================================================
+
+The world's walls and blocks are logged on the timelines at the first step of every episode
+whose world differs from the last one logged (all of a fixed-world task's episodes share the
+first episode's; ``DynNav-Procedural-v1`` changes its world every episode), so that the viewer
+shows, at any step, the walls and blocks of that step's world. The robot's body and camera
+are the same in every world and logged once, static.
 
 The default blueprint puts the 3D view on the left, the camera frame above its
 reconstruction in the middle, and the time series on the right.
@@ -44,7 +51,10 @@ import rerun.blueprint as rrb
 from dynnav_tasks.outcomes import outcome_of
 from dynnav_tasks.robot import CAMERA_OFFSET, FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH, LASER_HEIGHT
 from dynnav_tasks.scene import TARGET_DISC_RADIUS
-from dynnav_tasks.world import MOVING_OBSTACLE_COLOR, STATIC_OBSTACLE_COLOR, TARGET_COLOR, WALL_COLORS
+from dynnav_tasks.world import MOVING_OBSTACLE_COLOR, STATIC_OBSTACLE_COLOR, TARGET_COLOR, WALL_COLORS, World
+
+MOVING_BOX_HALF_HEIGHT = 0.25
+"""half the height (m) of a moving box as drawn (``world.Obstacles.height`` is 0.5 m)"""
 
 
 def _rgb255(rgba) -> list[int]:
@@ -107,18 +117,23 @@ class Recorder:
         self.rec.log("world", rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)
         self.step = -1
         self.episode = -1
-        self._world_logged: Optional[int] = None
+        self._robot_logged = False
+        self._world_logged: Optional[World] = None
 
     # ------------------------------------------------------------------ episodes
     def start_episode(self, env, episode: Optional[int] = None) -> None:
         """Log the state right after ``env.reset()``."""
         base = env.unwrapped
         self.episode = self.episode + 1 if episode is None else episode
-        if self._world_logged != id(base.world):
-            self._log_static_world(base)
-            self._world_logged = id(base.world)
         self.step += 1
         self._set_time()
+        if not self._robot_logged:
+            self._log_robot_parts(base)
+            self._robot_logged = True
+        world = base.world
+        if world is not self._world_logged and world != self._world_logged:
+            self._log_world(world)
+            self._world_logged = world
         self._log_state(base)
 
     def log_step(self, env, action: Optional[int] = None, reward: Optional[float] = None,
@@ -169,15 +184,31 @@ class Recorder:
         self.rec.set_time("step", sequence=self.step)
         self.rec.set_time("episode", sequence=max(self.episode, 0))
 
-    def _log_static_world(self, base) -> None:
-        rec, arena = self.rec, base.world.arena
+    def _log_world(self, world: World) -> None:
+        """The walls and static blocks of ``world``, at the current step; clears the moving
+        boxes of the previous world (``_log_state`` logs this world's)."""
+        rec, arena = self.rec, world.arena
         walls = arena.walls()
         rec.log("world/walls", rr.Boxes3D(
             centers=[[c[0], c[1], arena.wall_height / 2] for c, _ in walls.values()],
             half_sizes=[[h[0], h[1], arena.wall_height / 2] for _, h in walls.values()],
             colors=[_rgb255(WALL_COLORS[side]) for side in walls],
             fill_mode="solid",
-        ), static=True)
+        ))
+        blocks = [group for group in world.obstacles if not group.moving]
+        if blocks:
+            rec.log("world/blocks", rr.Boxes3D(
+                centers=[[g.motion.at[0], g.motion.at[1], g.height / 2] for g in blocks],
+                half_sizes=[[g.half_size[0], g.half_size[1], g.height / 2] for g in blocks],
+                colors=[_rgb255(STATIC_OBSTACLE_COLOR)], fill_mode="solid",
+            ))
+        else:
+            rec.log("world/blocks", rr.Clear(recursive=False))
+        rec.log("world/obstacles", rr.Clear(recursive=False))
+
+    def _log_robot_parts(self, base) -> None:
+        """The robot's footprint and front camera (the same in every world), static."""
+        rec = self.rec
         rec.log("world/robot/body", rr.Boxes3D(
             centers=[[0, 0, 0.16]], half_sizes=[[FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH, 0.1]],
             colors=[[80, 82, 97]], fill_mode="solid",
@@ -207,15 +238,13 @@ class Recorder:
         rec.log("world/robot/lasers", rr.LineStrips3D([[start, e] for e in ends], colors=[[255, 60, 60]], radii=0.005))
         hit = readings < base.laser_range - 1e-6
         rec.log("world/robot/laser_hits", rr.Points3D(ends[hit], colors=[[255, 200, 0]], radii=0.03))
-        # obstacles and target, in the world frame
-        centers, half = snap.obstacle_xy, snap.obstacle_half
-        if len(centers):
-            n_static = len(centers) - snap.moving_count
-            colors = [_rgb255(STATIC_OBSTACLE_COLOR)] * n_static + [_rgb255(MOVING_OBSTACLE_COLOR)] * snap.moving_count
+        # moving boxes and target, in the world frame (the blocks are logged with the world)
+        if snap.moving_count:
+            centers, half = snap.moving_obstacle_xy, snap.obstacle_half[-snap.moving_count:]
             rec.log("world/obstacles", rr.Boxes3D(
-                centers=[[c[0], c[1], 0.25] for c in centers],
-                half_sizes=[[h[0], h[1], 0.25] for h in half],
-                colors=colors, fill_mode="solid",
+                centers=[[c[0], c[1], MOVING_BOX_HALF_HEIGHT] for c in centers],
+                half_sizes=[[h[0], h[1], MOVING_BOX_HALF_HEIGHT] for h in half],
+                colors=[_rgb255(MOVING_OBSTACLE_COLOR)], fill_mode="solid",
             ))
         tx, ty = (float(v) for v in snap.target_xy)
         rec.log("world/target", rr.Cylinders3D(
