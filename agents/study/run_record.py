@@ -4,7 +4,8 @@ A run directory (what ``python -m agents.dqn`` or a sweep writes) holds ``config
 resolved config), ``metrics.csv`` (one line per training episode), ``eval.json`` (the test phase)
 and, when a sweep made it, ``sweep_run.json`` (its experiment name and the test phase's time).
 ``read_run`` turns it into one run row and one row per test episode; the columns are described in
-agents/study/table.py.
+agents/study/table.py. Tests with other task options (``tests/<key=value,...>/eval.json``, see
+``agents.training.test_phase``) are more rows of the same run, told apart by ``tested_on``.
 
 * config hash: the first 12 hex digits of the SHA-256 of the resolved config as canonical JSON
   (sorted keys), without the fields that say where and how a run was made rather than what was
@@ -38,7 +39,8 @@ BLOCK = 50
 """training episodes per block of the down-sampled training curve"""
 CURVES = ("return", "loss", "success")
 """metrics.csv columns kept as down-sampled curves"""
-NOT_HASHED = {"name": None, "seed": None, "run": None, "test": ("eval_after_training", "eval_out")}
+NOT_HASHED = {"name": None, "seed": None, "run": None,
+              "test": ("eval_after_training", "eval_out", "eval_task_kwargs", "also_test_on")}
 """config fields left out of the config hash (None: the whole field or group)"""
 REQUIRED = ("config.yaml", "metrics.csv", "eval.json")
 CODE_ROOT = Path(__file__).resolve().parents[2]
@@ -147,20 +149,25 @@ def _read_metrics(path: Path) -> dict[str, np.ndarray]:
     return {k: np.array([float(r[k]) if r[k] not in ("", None) else np.nan for r in rows]) for k in columns}
 
 
-def read_run(run_dir: str | Path, experiment: str | None = None, commit: str | None = None) -> tuple[dict, list[dict]]:
-    """(run row, test-episode rows) of a finished run directory; ``experiment`` defaults to the
-    sweep's name for it (sweep_run.json), else the config's ``name``. ValueError if it is not one."""
+def _read_test(path: Path) -> tuple[str, dict, list[dict]]:
+    """(tested_on, summary, episode records) of an eval.json."""
+    ev = json.loads(path.read_text())
+    return str(ev.get("tested_on", "")), ev["summary"], ev["episodes"]
+
+
+def read_run(run_dir: str | Path, experiment: str | None = None, commit: str | None = None) -> tuple[list[dict], list[dict]]:
+    """(run rows, test-episode rows) of a finished run directory: one row for its test phase and one
+    per test in tests/*/; ``experiment`` defaults to the sweep's name for it (sweep_run.json), else
+    the config's ``name``. ValueError if it is not one."""
     run_dir = Path(run_dir)
     check_run_dir(run_dir)
     try:
         config = yaml.safe_load((run_dir / "config.yaml").read_text())
-        ev = json.loads((run_dir / "eval.json").read_text())
+        tests = [_read_test(p) for p in [run_dir / "eval.json", *sorted(run_dir.glob("tests/*/eval.json"))]]
         info_path = run_dir / "sweep_run.json"
         info = json.loads(info_path.read_text()) if info_path.is_file() else {}
         metrics = _read_metrics(run_dir / "metrics.csv")
-        summary = ev["summary"]
-        episodes = ev["episodes"]
-    except (ValueError, KeyError, TypeError, yaml.YAMLError) as err:
+    except (ValueError, KeyError, TypeError, AttributeError, yaml.YAMLError) as err:
         raise ValueError(f"{run_dir}: cannot read its record ({type(err).__name__}: {err})") from err
     if not isinstance(config, dict) or not config.get("task"):
         raise ValueError(f"{run_dir}/config.yaml is not a run's resolved config (no task)")
@@ -173,16 +180,25 @@ def read_run(run_dir: str | Path, experiment: str | None = None, commit: str | N
     done = len(metrics.get("episode", []))
     train_s = float(metrics["wall_time_s"][-1]) if done else 0.0
     eval_s = float(info.get("eval_s", 0.0))
-    key = dict(experiment=experiment, config_hash=config_hash(config), seed=int(config.get("seed") or 0))
-    row = dict(key, task=config["task"], commit=commit or "", run=run_dir.resolve().name, test_episodes=int(summary["episodes"]),
-               success_rate=summary["success_rate"], collision_rate=summary["collision_rate"],
-               timeout_rate=summary["timeout_rate"], avg_steps_success=summary["avg_steps_success"],
-               spl=summary.get("spl"), avg_return=summary.get("avg_return"),
-               converge_episode=episodes_to_converge(metrics["success"]) if done else None,
-               wall_clock_s=round(train_s + eval_s, 1), train_s=round(train_s, 1), eval_s=round(eval_s, 1),
-               episodes_planned=int(config.get("episodes") or 0), episodes_done=done, curve_block=BLOCK)
+    training = dict(task=config["task"], commit=commit or "", run=run_dir.resolve().name,
+                    converge_episode=episodes_to_converge(metrics["success"]) if done else None,
+                    wall_clock_s=round(train_s + eval_s, 1), train_s=round(train_s, 1), eval_s=round(eval_s, 1),
+                    episodes_planned=int(config.get("episodes") or 0), episodes_done=done, curve_block=BLOCK)
     for name in CURVES:
-        row[f"curve_{name}"] = format_curve(block_means(metrics[name])) if done else ""
-    tests = [dict(key, episode=i, episode_seed=e.get("seed"), outcome=e["outcome"], steps=e["steps"],
-                  episode_return=e.get("ret"), spl=e.get("spl")) for i, e in enumerate(episodes)]
-    return row, tests
+        training[f"curve_{name}"] = format_curve(block_means(metrics[name])) if done else ""
+    rows, episode_rows, seen = [], [], set()
+    for on, summary, episodes in tests:
+        if on in seen:  # the test phase's own folder wins over tests/ with the same options
+            continue
+        seen.add(on)
+        key = dict(experiment=experiment, config_hash=config_hash(config), seed=int(config.get("seed") or 0),
+                   tested_on=on)
+        rows.append(dict(key, **training, test_episodes=int(summary["episodes"]),
+                         success_rate=summary["success_rate"], collision_rate=summary["collision_rate"],
+                         timeout_rate=summary["timeout_rate"], avg_steps_success=summary["avg_steps_success"],
+                         spl=summary.get("spl"), avg_return=summary.get("avg_return")))
+        episode_rows += [dict(key, episode=i, episode_seed=e.get("seed"), outcome=e["outcome"], steps=e["steps"],
+                              episode_return=e.get("ret"), spl=e.get("spl"), world_seed=e.get("world_seed"),
+                              arena_side=e.get("arena_side"), moving_obstacles=e.get("moving_obstacles"))
+                         for i, e in enumerate(episodes)]
+    return rows, episode_rows

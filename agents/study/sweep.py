@@ -100,6 +100,7 @@ def execute(spec: RunSpec) -> dict:
     config = spec.config()
     run_dir = find_run_dir(spec.seed_dir)
     if run_dir is not None and (run_dir / "eval.json").is_file():
+        evaluate_as_configured(config, run_dir, verbose=False, only_missing=True)  # also_test_on added later
         return _record(spec, run_dir, "skipped")
     if run_dir is not None and not exists(run_dir):
         shutil.rmtree(run_dir)  # stopped before its first checkpoint: nothing to continue from

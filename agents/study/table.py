@@ -6,13 +6,15 @@
 A table is a folder holding two gzip CSV files (UTF-8, a header line, rows sorted by their key,
 written with gzip mtime 0 so that the same rows give the same bytes):
 
-``runs.csv.gz``, one row per run, keyed by (experiment, config_hash, seed):
+``runs.csv.gz``, one row per run and test, keyed by (experiment, config_hash, seed, tested_on):
 
 ==================== ==========================================================================
 experiment           the experiment's name (a sweep: the config file's stem)
 config_hash          12 hex digits of the resolved config, without name, seed and where it ran
                      (agents/study/run_record.py says which fields)
 seed                 the training seed
+tested_on            the task options the test changed, 'key=value,...' (e.g. split=ood); empty:
+                     the run's own task (every row of the study)
 task                 the environment id
 commit               the code's git commit (empty if unknown)
 run                  the run directory's folder name (<task>__<name>__<seed>__<time>)
@@ -38,11 +40,13 @@ curve_success        per block: share of training episodes that reached the targ
 ``episodes.csv.gz``, one row per test episode, keyed by the run's key and ``episode``: the
 episode's index in the test phase, ``episode_seed`` (a reset of the task with it draws the same
 world, which is what agents.analysis.outcomes groups by), ``outcome`` (success, collision,
-timeout), ``steps``, ``episode_return`` and ``spl``. No trajectories.
+timeout), ``steps``, ``episode_return``, ``spl`` and the episode's world: ``world_seed``
+(procedural tasks), ``arena_side`` (the arena's longer side, m) and ``moving_obstacles`` (their
+number); these three are empty in the rows made before they were recorded. No trajectories.
 
 Adding a run replaces the row (and test episodes) of a run with the same key, or of the same
-experiment with the same run folder name (a run continued with a longer config): a run is never
-listed twice. Writers on one table take a lock on its folder, so sweeps sharing it merge.
+experiment, run folder name and test (a run continued with a longer config): a test of a run
+is never listed twice. Writers on one table take a lock on its folder, so sweeps sharing it merge.
 """
 
 from __future__ import annotations
@@ -62,17 +66,18 @@ from agents.study.run_record import added_commits, head_commit, read_run
 
 RUNS = "runs.csv.gz"
 EPISODES = "episodes.csv.gz"
-KEY = ("experiment", "config_hash", "seed")
+KEY = ("experiment", "config_hash", "seed", "tested_on")
 RUN_COLUMNS = {
-    "experiment": str, "config_hash": str, "seed": int, "task": str, "commit": str, "run": str,
+    "experiment": str, "config_hash": str, "seed": int, "tested_on": str, "task": str, "commit": str, "run": str,
     "test_episodes": int,
     "success_rate": float, "collision_rate": float, "timeout_rate": float, "avg_steps_success": float,
     "spl": float, "avg_return": float, "converge_episode": int, "wall_clock_s": float, "train_s": float,
     "eval_s": float, "episodes_planned": int, "episodes_done": int, "curve_block": int, "curve_return": str,
     "curve_loss": str, "curve_success": str}
 """column -> type of runs.csv.gz, in file order (an empty cell is None)"""
-EPISODE_COLUMNS = {"experiment": str, "config_hash": str, "seed": int, "episode": int, "episode_seed": int,
-                   "outcome": str, "steps": int, "episode_return": float, "spl": float}
+EPISODE_COLUMNS = {"experiment": str, "config_hash": str, "seed": int, "tested_on": str, "episode": int,
+                   "episode_seed": int, "outcome": str, "steps": int, "episode_return": float, "spl": float,
+                   "world_seed": int, "arena_side": float, "moving_obstacles": int}
 """column -> type of episodes.csv.gz, in file order"""
 DEFAULT_TABLE = "results"
 
@@ -154,10 +159,10 @@ def add_rows(table: str | Path, runs: list[dict], episodes: list[dict], replace:
     with _locked(table):
         old_runs = read_table(table)
         old_episodes = read_table(table, episodes=True)
-        same = {(r["experiment"], r["run"]): k for k, r in new.items()}
-        # old key -> the new key of the same run
-        present = {_key(r): _key(r) if _key(r) in new else same[(r["experiment"], r["run"])] for r in old_runs
-                   if _key(r) in new or (r["experiment"], r["run"]) in same}
+        same = {(r["experiment"], r["run"], r["tested_on"]): k for k, r in new.items()}
+        # old key -> the new key of the same run and test
+        present = {_key(r): _key(r) if _key(r) in new else same[(r["experiment"], r["run"], r["tested_on"])]
+                   for r in old_runs if _key(r) in new or (r["experiment"], r["run"], r["tested_on"]) in same}
         if not replace:
             new = {k: r for k, r in new.items() if k not in present.values()}
             episodes = [e for e in episodes if _key(e) in new]
@@ -183,14 +188,14 @@ def add_runs(table: str | Path, run_dirs: list[str | Path], experiment: str | No
     head = head_commit() if len(commits) < len(run_dirs) else None
     runs, episodes = [], []
     for d in run_dirs:
-        row, tests = read_run(d, experiment, commits.get(d.resolve()) or head)
-        runs.append(row)
+        rows, tests = read_run(d, experiment, commits.get(d.resolve()) or head)
+        runs += rows
         episodes += tests
     keys = [_key(r) for r in runs]
     if len(set(keys)) < len(keys):
         twice = sorted({k for k in keys if keys.count(k) > 1})
         raise ValueError(f"two of the given run directories are the same run {twice[0]} (experiment, config "
-                         "hash, seed); give one of them")
+                         "hash, seed, test); give one of them")
     return add_rows(table, runs, episodes, replace)
 
 
@@ -219,7 +224,7 @@ def main(argv: list[str] | None = None) -> None:
         raise SystemExit(f"error: no runs in {Path(args.table) / RUNS}")
     groups: dict[str, list[dict]] = {}
     for r in rows:
-        groups.setdefault(r["experiment"], []).append(r)
+        groups.setdefault(r["experiment"] + (f" (tested on {r['tested_on']})" if r["tested_on"] else ""), []).append(r)
     for name in sorted(groups):
         rates = [r["success_rate"] for r in groups[name]]
         print(f"{name}: {len(rates)} run(s), test success {sum(rates) / len(rates):.1%}")

@@ -156,6 +156,14 @@ class TestConfig:
     """folder for eval.json, eval.md and the pictures of --eval (default: beside the checkpoint)"""
     eval_picture: bool = True
     """draw the test trajectories on the task's top-down picture (dynnav tasks)"""
+    eval_task_kwargs: dict[str, TaskOption] = field(default_factory=dict)
+    """task options changed for the test phase only, laid over the run's own (e.g. split test: a
+    DynNav-Procedural-v1 navigator tested in held-out worlds). With --eval and no --eval-out, the
+    results go to tests/<key=value,...>/ in the run directory"""
+    also_test_on: tuple[str, ...] = ()
+    """after the test phase, one more per entry, with the task options 'key=value,key=value' laid
+    over the run's own (e.g. split=ood, or obstacle_count=4,obstacle_speed_scale=1.5), written to
+    tests/<entry>/ in the run directory; each is a row of the run table (tested_on)"""
 
 
 @dataclass
@@ -282,6 +290,8 @@ def validate(c: Config) -> None:
                          "camera_frames N >= 2 already stacks frames")
     if cam.camera_input == "pixels" and not cam.camera_frames:
         raise ValueError("camera_input pixels reads camera frames: set camera_frames (1: RGB, N >= 2: N gray frames)")
+    for entry in c.test.also_test_on:
+        parse_task_options(entry)
     check_device(c.run.device)
     if c.eval and not c.checkpoint:
         raise ValueError("--eval needs --checkpoint <checkpoint or run directory>")
@@ -303,3 +313,31 @@ def check_device(device: str) -> None:
             raise ValueError(f"device {device!r}: torch sees {torch.cuda.device_count()} GPU(s)")
     elif dev.type != "cpu":
         raise ValueError(f"device {device!r}: use cpu, cuda or cuda:N")
+
+
+def parse_task_options(text: str) -> dict[str, TaskOption]:
+    """'key=value,key=value' -> task options; values read as YAML scalars (4 -> int, 1.5 -> float,
+    ood -> str). ValueError saying what is wrong."""
+    import yaml
+
+    options: dict[str, TaskOption] = {}
+    for part in text.split(","):
+        key, sep, value = part.partition("=")
+        key = key.strip()
+        if not sep or not key or not value.strip():
+            raise ValueError(f"also_test_on entry {text!r}: write task options as key=value, separated by commas "
+                             f"(e.g. split=ood or obstacle_count=4,obstacle_speed_scale=1.5)")
+        parsed = yaml.safe_load(value.strip())
+        if not isinstance(parsed, (int, float, bool, str)):
+            raise ValueError(f"also_test_on entry {text!r}: the value of {key} must be a number, true/false or a "
+                             f"word, got {value.strip()!r}")
+        if key in options:
+            raise ValueError(f"also_test_on entry {text!r} sets {key} twice")
+        options[key] = parsed
+    return options
+
+
+def tested_on(options: dict[str, TaskOption]) -> str:
+    """The name of a test's task options as the run table keys it: 'key=value,...' with the keys
+    sorted ('' for the run's own task)."""
+    return ",".join(f"{k}={'true' if v is True else 'false' if v is False else v}" for k, v in sorted(options.items()))

@@ -42,7 +42,7 @@ from agents.training.config import GROUP_OF, GROUPS, MODE_FIELDS, Config, get  #
 
 TOP_FIELDS = {f.name for f in dataclasses.fields(Config)} - set(GROUPS)
 EVAL_FLAGS = {"eval", "checkpoint", "eval_episodes", "eval_seed", "eval_epsilon", "eval_out", "eval_picture",
-              "progress", "device", "rerun"}
+              "eval_task_kwargs", "also_test_on", "progress", "device", "rerun"}
 """settings --eval takes from the command line; everything else comes from the checkpoint"""
 
 
@@ -242,7 +242,7 @@ def save_yaml(config: Config, path: str | Path) -> None:
 
 
 # ---------------------------------------------------------------------------------------- command line
-_DICT_FIELDS = ("reward_params", "task_kwargs")  # EnvConfig's key-value options
+_DICT_FIELDS = ("reward_params", "task_kwargs", "eval_task_kwargs")  # key-value options (env and test groups)
 
 
 def _flag_value(argv: list[str], flag: str) -> Optional[str]:
@@ -280,17 +280,15 @@ def parse_args(argv: Optional[list[str]] = None) -> Config:
     # tyro turns a non-empty dict default into fixed per-key flags, which would drop --reward-params and
     # --task-kwargs whenever the YAML sets them: parse them against empty dicts, then lay the flags' keys
     # over the YAML's (``--reward-params collision_reward -100`` keeps the YAML's distance_gamma)
-    from_yaml = {name: getattr(default.env, name) for name in _DICT_FIELDS}
-    empty = dataclasses.replace(default.env, **{name: {} for name in _DICT_FIELDS})
-    config = tyro.cli(tyro.conf.OmitArgPrefixes[Config], args=argv, default=dataclasses.replace(default, env=empty),
-                      description=Config.__doc__)
-    merged = {name: {**from_yaml[name], **getattr(config.env, name)} for name in _DICT_FIELDS}
-    config = dataclasses.replace(config, env=dataclasses.replace(config.env, **merged))
+    from_yaml = {name: get(default, name) for name in _DICT_FIELDS}
+    config = tyro.cli(tyro.conf.OmitArgPrefixes[Config], args=argv,
+                      default=replace(default, **{name: {} for name in _DICT_FIELDS}), description=Config.__doc__)
+    config = replace(config, **{name: {**from_yaml[name], **get(config, name)} for name in _DICT_FIELDS})
     if config.eval:
         ignored = sorted(flags_given(argv) - EVAL_FLAGS - {"help"})
         if ignored:
             flags = ", ".join("--" + n.replace("_", "-") for n in ignored)
             raise ValueError(f"--eval tests a checkpoint on the task and settings it was trained with; {flags} "
                              f"cannot change them (test flags: --eval-episodes, --eval-seed, --eval-epsilon, "
-                             f"--eval-out, --eval-picture, --rerun, --device)")
+                             f"--eval-task-kwargs, --also-test-on, --eval-out, --eval-picture, --rerun, --device)")
     return config.validate()

@@ -7,6 +7,13 @@ Test episode i is reset with seed ``eval_seed + i`` (default 1_000_000 + i), so 
 checkpoint is tested on the same episodes, none of which it was trained on (training episodes
 use hashed seeds). Results go next to the checkpoint: eval.json (summary and every episode),
 eval.md (the table printed here) and, for dynnav tasks, trajectories.png (``agents.training.test_report``).
+
+A test may change task options (``eval_task_kwargs``, e.g. ``split: test`` for held-out
+procedural worlds), and ``also_test_on`` adds more tests, each in ``tests/<key=value,...>/`` of
+the run directory:
+
+    python -m agents.dqn --eval --checkpoint runs/<run> --eval-task-kwargs split ood
+    # -> runs/<run>/tests/split=ood/eval.json
 """
 
 from __future__ import annotations
@@ -18,6 +25,8 @@ import numpy as np
 
 from agents.core.policy import Policy
 from agents.files import atomic_write_bytes
+from agents.training import checkpoint as ckpt
+from agents.training.config import parse_task_options, tested_on
 from agents.training.envs import is_dynnav
 from agents.training.policy_loading import load_policy
 from agents.training.rollout import greedy, open_recorder, rollout
@@ -46,6 +55,7 @@ def run_episodes(policy: Policy, episodes: int, seed: int, recorder=None, latent
             if dynnav:  # the task's snapshot, whatever the observation holds
                 snapshot = env.unwrapped.snapshot
                 start["robot"], start["target"] = snapshot.robot_xy, np.array(snapshot.target_xy)
+                start["world"] = world_facts(env.unwrapped)
                 path.append(start["robot"].tolist())
 
         def on_step(action, reward, obs, terminated, truncated, info):
@@ -61,6 +71,7 @@ def run_episodes(policy: Policy, episodes: int, seed: int, recorder=None, latent
         if dynnav:
             shortest = max(float(np.linalg.norm(start["target"] - start["robot"])) - reach, 0.0)
             driven = float(episode.info["path_length"])
+            record.update(start["world"])
             record.update(path_length=round(driven, 4), shortest_path=round(shortest, 4),
                           spl=spl(episode.outcome == "success", shortest, driven),
                           target_start=start["target"].tolist(), trajectory=path)
@@ -68,35 +79,69 @@ def run_episodes(policy: Policy, episodes: int, seed: int, recorder=None, latent
     return records
 
 
-def evaluate_as_configured(config, checkpoint_path, **kwargs) -> dict:
+def world_facts(task) -> dict:
+    """What a test episode's world was: its seed (procedural tasks; None for a fixed world), the
+    arena's longer side (m) and its number of moving obstacles."""
+    world = task.world
+    return dict(world_seed=getattr(task, "world_seed", None), arena_side=round(float(max(world.arena.size)), 3),
+                moving_obstacles=int(world.moving_obstacle_count))
+
+
+TESTS_DIR = "tests"
+"""folder of a run directory holding its tests with other task options, one sub-folder each"""
+
+
+def test_dir(run_dir: Path, options: dict) -> Path:
+    """Where a test with task ``options`` of the run in ``run_dir`` is written: tests/<key=value,...>/."""
+    return Path(run_dir) / TESTS_DIR / tested_on(options)
+
+
+def evaluate_as_configured(config, checkpoint_path, out_dir=None, only_missing: bool = False, **kwargs) -> dict:
     """``evaluate`` with the test settings of ``config`` (eval_episodes, eval_seed, eval_picture,
-    eval_epsilon); ``kwargs`` go to ``evaluate`` (out_dir, verbose, rerun, device)."""
+    eval_epsilon, eval_task_kwargs), then one more test per ``also_test_on`` entry; returns the
+    first test's summary. ``out_dir``: the first test's folder (default: the run directory; with
+    --eval and task options, tests/<options>/ in it); ``only_missing``: skip the tests whose
+    eval.json exists. ``kwargs`` go to ``evaluate`` (verbose, rerun, device)."""
     t = config.test
-    return evaluate(checkpoint_path, episodes=t.eval_episodes, seed=t.eval_seed, picture=t.eval_picture,
-                    epsilon=t.eval_epsilon, **kwargs)
+    extra = [parse_task_options(entry) for entry in t.also_test_on]  # errors before any test runs
+    run_dir = ckpt.resolve(checkpoint_path).parent
+    if out_dir is None and config.eval and t.eval_task_kwargs:
+        out_dir = test_dir(run_dir, t.eval_task_kwargs)
+    settings = dict(episodes=t.eval_episodes, seed=t.eval_seed, picture=t.eval_picture, epsilon=t.eval_epsilon)
+    first = Path(out_dir) if out_dir is not None else run_dir
+    summary = None
+    if not (only_missing and (first / "eval.json").is_file()):
+        summary = evaluate(checkpoint_path, out_dir=out_dir, task_kwargs=t.eval_task_kwargs, **settings, **kwargs)
+    for options in extra:
+        where = test_dir(first, options)
+        if not (only_missing and (where / "eval.json").is_file()):
+            evaluate(checkpoint_path, out_dir=where, task_kwargs=options, **settings, **kwargs)
+    return summary
 
 
 def evaluate(checkpoint_path, episodes: int = 100, seed: int = 1_000_000, picture: bool = True,
              out_dir: str | Path | None = None, verbose: bool = True, rerun: str | Path | None = None,
-             epsilon: float = 0.0, device: str | None = None) -> dict:
+             epsilon: float = 0.0, device: str | None = None, task_kwargs: dict | None = None) -> dict:
     """Test the checkpoint's Q-network; write eval.json / eval.md (/ trajectories.png); return the summary.
 
     ``epsilon``: probability of a random action per step (0, greedy, is the test).
-    ``rerun``: also write every test episode to this Rerun recording (dynnav tasks)."""
+    ``rerun``: also write every test episode to this Rerun recording (dynnav tasks).
+    ``task_kwargs``: task options laid over the run's own for this test (e.g. split="ood")."""
     limit_threads(1)
-    policy = load_policy(checkpoint_path, device=device)
+    task_kwargs = dict(task_kwargs or {})
+    policy = load_policy(checkpoint_path, device=device, **task_kwargs)
     try:
         recorder = open_recorder(rerun, policy.config.task)  # checks the recording path before any work
         out_dir = Path(out_dir) if out_dir is not None else policy.path.parent
         out_dir.mkdir(parents=True, exist_ok=True)
         with RunDirLock(out_dir):  # not while another process writes there (e.g. still trains)
-            return run_test_phase(policy, out_dir, episodes, seed, picture, verbose, recorder, epsilon)
+            return run_test_phase(policy, out_dir, episodes, seed, picture, verbose, recorder, epsilon, task_kwargs)
     finally:
         policy.env.close()
 
 
 def run_test_phase(policy: Policy, out_dir: Path, episodes: int, seed: int, picture: bool, verbose: bool, recorder,
-              epsilon: float) -> dict:
+                   epsilon: float, task_kwargs: dict | None = None) -> dict:
     """The test phase of ``policy`` with its results written to ``out_dir``; returns the summary."""
     config, path, trained = policy.config, policy.path, policy.state["episode"]
     latents = [] if hasattr(policy.features, "last_latent") else None
@@ -112,9 +157,11 @@ def run_test_phase(policy: Policy, out_dir: Path, episodes: int, seed: int, pict
         atomic_write_bytes(out_dir / "latents.npz", npz.getvalue())
         plot_latents(z, targets, rewards, out_dir, title=config.task)
     summary = summarize(records, epsilon)
+    options = dict(task_kwargs or {})
     result = dict(task=config.task, checkpoint=str(path), trained_episodes=trained, eval_seed=seed,
-                  summary=summary, episodes=records)
-    table = write_results(out_dir, result, f"Test of {path} after {trained} training episodes")
+                  task_kwargs=options, tested_on=tested_on(options), summary=summary, episodes=records)
+    on = f" on {tested_on(options)}" if options else ""
+    table = write_results(out_dir, result, f"Test of {path} after {trained} training episodes{on}")
     if verbose:
         print(f"\ntest phase: {path} ({trained} training episodes)\n")
         print(table)
