@@ -10,7 +10,9 @@
 =============  ===================================================================
 
 The state vector is read from the step's ``StepSnapshot``; the frame is rendered when the
-observation is made. A task may observe another state vector by overriding ``state_vector``,
+observation is made. A task with more moving obstacles than its state vector has places for
+(``state_obstacle_slots``, e.g. world 5.3 with ``obstacle_count=4``) lists the nearest ones to the
+robot, in the world's order, so a navigator trained in the original world reads the same vector. A task may observe another state vector by overriding ``state_vector``,
 ``state_space`` and ``state_layout`` (the procedural task's egocentric state, ``egocentric.py``).
 """
 
@@ -34,6 +36,15 @@ class Observations:
     Uses the task's ``world``, ``camera_spec``, ``snapshot`` and laser ring (``_sensing.lasers``).
     """
 
+    state_obstacle_slots: Optional[int] = None
+    """moving obstacles the state vector lists (the nearest to the robot when the world has more);
+    None: every moving obstacle of the world"""
+
+    @property
+    def _obstacle_slots(self) -> int:
+        count = self.world.moving_obstacle_count
+        return count if self.state_obstacle_slots is None else min(self.state_obstacle_slots, count)
+
     @property
     def _default_sensor_configs(self):
         """The front camera, created only when observations include images."""
@@ -52,7 +63,7 @@ class Observations:
     def state_space(self) -> gym.spaces.Box:
         """The state vector's space: lasers in [0, range], positions within the walls."""
         (x0, x1), (y0, y1) = self.world.arena.x_range, self.world.arena.y_range
-        n_lasers, n_pos = len(self._sensing.lasers.angles), self.world.moving_obstacle_count + 2
+        n_lasers, n_pos = len(self._sensing.lasers.angles), self._obstacle_slots + 2
         low = np.array([0.0] * n_lasers + [x0, y0] * n_pos, dtype=np.float32)
         high = np.array([self._sensing.lasers.max_range] * n_lasers + [x1, y1] * n_pos, dtype=np.float32)
         return gym.spaces.Box(low, high, dtype=np.float32)
@@ -60,7 +71,7 @@ class Observations:
     def state_layout(self) -> list[tuple[str, int]]:
         """Names and sizes of the parts of the state vector, in order."""
         layout = [("lasers", len(self._sensing.lasers.angles)), ("robot_xy", 2), ("target_xy", 2)]
-        layout += [(f"obstacle{i}_xy", 2) for i in range(self.world.moving_obstacle_count)]
+        layout += [(f"obstacle{i}_xy", 2) for i in range(self._obstacle_slots)]
         return layout
 
     @property
@@ -85,7 +96,14 @@ class Observations:
 
     def state_vector(self) -> np.ndarray:
         """lasers | robot xy | target xy | moving obstacles xy, float32."""
-        return self.snapshot.state_vector()
+        snapshot = self.snapshot
+        slots = self._obstacle_slots
+        if slots == snapshot.moving_count:
+            return snapshot.state_vector()
+        moving = snapshot.moving_obstacle_xy
+        nearest = np.sort(np.argsort(np.linalg.norm(moving - snapshot.pose[:2], axis=1), kind="stable")[:slots])
+        return np.concatenate([snapshot.lasers, snapshot.pose[:2], snapshot.target_xy, moving[nearest].reshape(-1)],
+                              dtype=np.float32)
 
     def camera_image(self) -> np.ndarray:
         """What the front camera sees now: uint8 (size, size, 3)."""

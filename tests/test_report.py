@@ -18,7 +18,7 @@ TASK = "DynNav-MovingObstacles-v1"
 def _row(experiment: str, seed: int, success: float, task: str = TASK, episodes: int = 400) -> dict:
     """A run row as agents.study.table stores it: 100 test episodes, a steady training curve."""
     blocks = episodes // 50
-    return dict(experiment=experiment, config_hash="0123456789ab", seed=seed, task=task, commit="", run=f"r{seed}",
+    return dict(experiment=experiment, config_hash="0123456789ab", seed=seed, tested_on="", task=task, commit="", run=f"r{seed}",
                 test_episodes=100, success_rate=success, collision_rate=round(1 - success, 4), timeout_rate=0.0,
                 avg_steps_success=40.0, spl=0.7, avg_return=-10.0, converge_episode=1000, wall_clock_s=60.0,
                 train_s=55.0, eval_s=5.0, episodes_planned=episodes, episodes_done=episodes, curve_block=50,

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from agents.study.run_record import BLOCK, config_hash, episodes_to_converge, parse_curve, read_run
-from agents.study.table import EPISODES, RUN_COLUMNS, RUNS, add_runs, main, read_table
+from agents.study.table import EPISODE_COLUMNS, EPISODES, RUN_COLUMNS, RUNS, add_runs, main, read_table
 
 CONFIG = """task: DynNav-MovingTarget-v1
 name: {name}
@@ -54,11 +54,33 @@ def make_run(parent: Path, name: str = "5.2", seed: int = 1, episodes: int = 120
     return run
 
 
+def add_test(run: Path, tested_on: str, outcomes: list[str]) -> None:
+    """A test of the run with other task options as agents.training.test_phase writes it:
+    tests/<tested_on>/eval.json, each episode recording its world (world seed 500 + k, arena
+    side 16 + k m, 8 + k moving obstacles for episode k)."""
+    folder = run / "tests" / tested_on
+    folder.mkdir(parents=True)
+    eps = [dict(seed=1000000 + k, outcome=o, steps=40 + k, ret=-1.0 * k, spl=0.5 if o == "success" else 0.0,
+                world_seed=500 + k, arena_side=16.0 + k, moving_obstacles=8 + k, trajectory=[[0.0, 0.0]])
+           for k, o in enumerate(outcomes)]
+    share = {o: outcomes.count(o) / len(outcomes) for o in ("success", "collision", "timeout")}
+    summary = dict(episodes=len(outcomes), epsilon=0.0, success_rate=share["success"],
+                   collision_rate=share["collision"], timeout_rate=share["timeout"], avg_steps_success=41.0,
+                   avg_return=-1.0, spl=0.1)
+    (folder / "eval.json").write_text(json.dumps(dict(task="DynNav-MovingTarget-v1", task_kwargs={},
+                                                      tested_on=tested_on, summary=summary, episodes=eps)))
+
+
 def test_a_run_directory_becomes_one_row_and_its_test_episodes(tmp_path):
     run = make_run(tmp_path, episodes=120, success_from=60)
-    row, episodes = read_run(run, commit="abc")
+    rows, episodes = read_run(run, commit="abc")
+    (row,) = rows  # no tests/ folder: the run's own test only
     assert set(row) == set(RUN_COLUMNS)
+    assert set(episodes[0]) == set(EPISODE_COLUMNS)
     assert (row["experiment"], row["seed"], row["task"], row["commit"]) == ("5.2", 1, "DynNav-MovingTarget-v1", "abc")
+    # an eval.json written before tests had options: the run's own task, no world facts
+    assert row["tested_on"] == "" and {e["tested_on"] for e in episodes} == {""}
+    assert all(e["world_seed"] is None and e["arena_side"] is None for e in episodes)
     assert row["run"] == run.name
     assert (row["success_rate"], row["collision_rate"], row["timeout_rate"], row["test_episodes"]) == (0.5, 0.25, 0.25, 4)
     assert (row["episodes_planned"], row["episodes_done"], row["curve_block"]) == (120, 120, BLOCK)
@@ -84,6 +106,78 @@ def test_the_config_hash_ignores_where_and_with_which_seed_a_run_was_made():
     assert config_hash(base) == config_hash(moved) and len(config_hash(base)) == 12
     assert config_hash(dict(base, episodes=11)) != config_hash(base)
     assert config_hash(dict(base, test=dict(base["test"], eval_episodes=50))) != config_hash(base)
+    # which tests were asked for is each row's tested_on, and a description says nothing trained
+    tested = dict(base, description="one more line", test=dict(base["test"], eval_task_kwargs={"split": "test"},
+                                                                 also_test_on=["split=ood"]))
+    assert config_hash(tested) == config_hash(base)
+
+
+def test_a_test_with_other_task_options_is_a_row_of_its_own(tmp_path, capsys):
+    run = make_run(tmp_path)
+    add_test(run, "split=ood", ["collision", "success", "timeout", "collision"])
+    rows, episodes = read_run(run)
+    assert [r["tested_on"] for r in rows] == ["", "split=ood"]
+    home, ood = rows
+    for column in ("experiment", "config_hash", "seed", "task", "run", "episodes_done", "converge_episode",
+                   "curve_success", "train_s"):  # one run, one training
+        assert home[column] == ood[column]
+    assert (home["success_rate"], home["collision_rate"], home["test_episodes"]) == (0.5, 0.25, 4)
+    assert (ood["success_rate"], ood["collision_rate"], ood["timeout_rate"]) == (0.25, 0.5, 0.25)
+    assert ood["test_episodes"] == 4
+    tested = [e for e in episodes if e["tested_on"] == "split=ood"]
+    assert [e["outcome"] for e in tested] == ["collision", "success", "timeout", "collision"]
+    assert [(e["world_seed"], e["arena_side"], e["moving_obstacles"]) for e in tested] == [
+        (500 + k, 16.0 + k, 8 + k) for k in range(4)]
+    assert len(episodes) == 8
+
+    table = tmp_path / "table"
+    assert add_runs(table, [run]) == dict(added=2, replaced=0, kept=0, runs=2)
+    assert add_runs(table, [run]) == dict(added=0, replaced=2, kept=0, runs=2)  # again: no duplicates
+    assert [(r["tested_on"], r["success_rate"]) for r in read_table(table)] == [("", 0.5), ("split=ood", 0.25)]
+    stored = read_table(table, episodes=True)
+    assert len(stored) == 8
+    assert [(e["episode"], e["world_seed"], e["arena_side"], e["moving_obstacles"]) for e in stored
+            if e["tested_on"] == "split=ood"] == [(k, 500 + k, 16.0 + k, 8 + k) for k in range(4)]
+    capsys.readouterr()
+    main(["show", "--table", str(table)])  # the two tests are listed apart
+    assert capsys.readouterr().out == ("5.2: 1 run(s), test success 50.0%\n"
+                                       "5.2 (tested on split=ood): 1 run(s), test success 25.0%\n")
+
+
+def test_the_runs_own_test_wins_over_a_tests_folder_with_the_same_options(tmp_path):
+    run = make_run(tmp_path)
+    record = json.loads((run / "eval.json").read_text())
+    (run / "eval.json").write_text(json.dumps(dict(record, task_kwargs={"split": "test"}, tested_on="split=test")))
+    add_test(run, "split=test", ["timeout"] * 4)  # the same test run again with --eval
+    rows, episodes = read_run(run)
+    assert [(r["tested_on"], r["success_rate"]) for r in rows] == [("split=test", 0.5)]
+    assert [e["outcome"] for e in episodes] == OUTCOMES
+
+
+def test_keeping_the_rows_adds_only_the_tests_the_table_lacks(tmp_path, capsys):
+    run = make_run(tmp_path)
+    table = tmp_path / "table"
+    add_runs(table, [run])
+    own_episodes = read_table(table, episodes=True)
+    # later: the run's test phase was run again (other numbers), and a test in other worlds was added
+    record = json.loads((run / "eval.json").read_text())
+    record["summary"]["success_rate"] = 0.75
+    record["episodes"][2]["outcome"] = "success"
+    (run / "eval.json").write_text(json.dumps(record))
+    add_test(run, "split=ood", ["success", "timeout", "timeout", "timeout"])
+    assert add_runs(table, [run], replace=False) == dict(added=1, replaced=0, kept=1, runs=2)
+    home, ood = read_table(table)
+    assert (home["tested_on"], home["success_rate"]) == ("", 0.5)  # the row it had
+    assert (ood["tested_on"], ood["success_rate"]) == ("split=ood", 0.25)
+    episodes = read_table(table, episodes=True)
+    assert [e for e in episodes if not e["tested_on"]] == own_episodes
+    assert [e["outcome"] for e in episodes if e["tested_on"]] == ["success", "timeout", "timeout", "timeout"]
+    # the command line's --keep: nothing is missing now, nothing changes
+    files = {name: (table / name).read_bytes() for name in (RUNS, EPISODES)}
+    capsys.readouterr()
+    main(["add", str(run), "--table", str(table), "--keep"])
+    assert "0 run(s) added, 0 replaced, 2 kept as they were, 2 in the table" in capsys.readouterr().out
+    assert {name: (table / name).read_bytes() for name in (RUNS, EPISODES)} == files
 
 
 def test_adding_a_run_again_replaces_its_row_and_the_files_are_deterministic(tmp_path):

@@ -19,7 +19,11 @@ its runs (one per seed):
   full state) on the experiment's task, from ``--ceilings`` (default docs/results/ceilings.json
   next to the report, written by ``python -m dynnav_tasks.baselines.state_planner --out ...``).
 
-The study's numbered cells get a table of their own (agents/study/cells.py). The discussion of
+The study's numbered cells get a table of their own (agents/study/cells.py), and the tests in
+other worlds (rows with a ``tested_on``: procedural navigators on their test and ood worlds, 5.3's
+navigator with more and faster boxes) a section of their own (agents/study/generalization.py,
+with the procedural planner and floor from ``--procedural-ceilings``, default
+docs/results/procedural_ceilings.json next to the report). The discussion of
 why the numbers differ from the study's is a page of its own (``--discussion``, default
 docs/results/discussion.md next to the report), linked, not pasted. Figures (``--figures``,
 default docs/results next to the report): agents/study/figures.py.
@@ -39,6 +43,7 @@ from agents.files import atomic_write_bytes
 from agents.study.cells import (cells_table, find_configs, format_ceiling, load_ceilings, short_of_seeds, study_rate,
                                 t975, wide_intervals)
 from agents.study.figures import block_size, caption, write_figures
+from agents.study.generalization import generalization_section, load_cells
 from agents.study.numbers import FIGURES, THESIS
 from agents.study.table import DEFAULT_TABLE, RUNS, read_table
 from agents.training.stats import wilson_interval
@@ -48,9 +53,12 @@ DISCUSSION = "docs/results/discussion.md"
 
 
 def group_runs(rows: list[dict]) -> dict[str, list[dict]]:
-    """experiment -> its runs in seed order."""
+    """experiment -> its runs in seed order (their tests in their own task; the tests with other
+    task options are the generalization section's)."""
     groups: dict[str, list[dict]] = {}
     for r in sorted(rows, key=lambda r: (r["experiment"], r["seed"], r["config_hash"])):
+        if r.get("tested_on"):
+            continue
         groups.setdefault(r["experiment"], []).append(r)
     return groups
 
@@ -98,9 +106,10 @@ def _experiment_row(name: str, task: str, s: dict, ceiling: str) -> str:
 
 def render(groups: dict[str, list[dict]], figures: list[tuple[str, str]] = (), table: str = "results/runs.csv.gz",
            discussion: str | None = None, ceilings: dict[str, float] | None = None,
-           configs: dict[str, str] | None = None, figure_caption: str = "") -> str:
+           configs: dict[str, str] | None = None, figure_caption: str = "", generalization: list[str] = ()) -> str:
     """The report's Markdown: ``groups`` experiment -> run rows; ``figures`` (relative path, title);
-    ``table`` and ``discussion`` as the report names them (paths relative to it)."""
+    ``table`` and ``discussion`` as the report names them (paths relative to it); ``generalization``:
+    that section's lines."""
     ceilings = ceilings or {}
     order = [e for e in THESIS if e in groups] + sorted(e for e in groups if e not in THESIS)
     summaries = {e: summarize(groups[e]) for e in order}
@@ -138,6 +147,7 @@ def render(groups: dict[str, list[dict]], figures: list[tuple[str, str]] = (), t
                       f"`{e}` ({', '.join(sorted({r['config_hash'] for r in groups[e]}))})" for e in mixed) + "."]
     lines += wide_intervals(summaries)
     lines += short_of_seeds(summaries, configs or {})
+    lines += list(generalization)
     if figures:
         lines += ["", "## Learning curves", ""]
         if figure_caption:
@@ -153,11 +163,13 @@ def _relative(path: Path, start: Path) -> str:
 
 def write_report(table: str | Path = DEFAULT_TABLE, out: str | Path = "RESULTS.md", figures_dir: str | Path | None = None,
                  discussion: str | None = None, ceilings: str | Path | None = None,
-                 configs: list[str | Path] | None = None) -> Path:
+                 configs: list[str | Path] | None = None, procedural_ceilings: str | Path | None = None) -> Path:
     """Write the report and its figures from a table folder. ``discussion``: the discussion page's
     path relative to the report (default DISCUSSION, linked if the file is there); ``ceilings``: the
     planner's JSON (default docs/results/ceilings.json next to ``out``, if there); ``configs``:
-    config files or folders of them, each listed if it has fewer than MIN_SEEDS runs.
+    config files or folders of them, each listed if it has fewer than MIN_SEEDS runs;
+    ``procedural_ceilings``: the procedural planner and floor (default
+    docs/results/procedural_ceilings.json next to ``out``, if there).
     Everything is read and checked before anything is written."""
     out = Path(out)
     rows = read_table(table)
@@ -167,6 +179,11 @@ def write_report(table: str | Path = DEFAULT_TABLE, out: str | Path = "RESULTS.m
     if ceilings is not None and not Path(ceilings).is_file():
         raise ValueError(f"ceilings file {str(ceilings)!r} does not exist")
     ceiling_rates = load_ceilings(ceilings if ceilings is not None else out.parent / "docs" / "results" / "ceilings.json")
+    if procedural_ceilings is not None and not Path(procedural_ceilings).is_file():
+        raise ValueError(f"procedural ceilings file {str(procedural_ceilings)!r} does not exist")
+    cells = load_cells(procedural_ceilings if procedural_ceilings is not None
+                       else out.parent / "docs" / "results" / "procedural_ceilings.json")
+    episodes = read_table(table, episodes=True) if any(r["tested_on"] for r in rows) else []
     if discussion is not None and not (out.parent / discussion).is_file():
         raise ValueError(f"discussion page {str(out.parent / discussion)!r} does not exist (the path is "
                          "relative to the report's folder)")
@@ -179,8 +196,10 @@ def write_report(table: str | Path = DEFAULT_TABLE, out: str | Path = "RESULTS.m
     table_path = Path(table) / RUNS
     inside = table_path.resolve().is_relative_to(out.parent.resolve())
     table_name = _relative(table_path, out.parent) if inside else table_path.as_posix()
+    figure = figures_dir / "generalization.png"
+    extra = generalization_section(rows, episodes, cells, ceiling_rates, figure, _relative(figure, out.parent))
     text = render(groups, written, table_name, link, ceiling_rates, config_paths,
-                  caption(block) if written else "")
+                  caption(block) if written else "", extra)
     atomic_write_bytes(out, text.encode())
     return out
 
@@ -197,12 +216,16 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--ceilings", default=None,
                         help="the planner's success rates per task (python -m dynnav_tasks.baselines.state_planner "
                              "--out FILE); default docs/results/ceilings.json next to --out, if it exists")
+    parser.add_argument("--procedural-ceilings", default=None,
+                        help="the procedural planner's and floor's rates per difficulty and split (their --out); "
+                             "default docs/results/procedural_ceilings.json next to --out, if it exists")
     parser.add_argument("--configs", nargs="+", default=None, metavar="CONFIG",
                         help="config files or folders of them (searched recursively): list the configs with fewer "
                              "than 5 runs in the table")
     args = parser.parse_args(argv)
     try:
-        out = write_report(args.table, args.out, args.figures, args.discussion, args.ceilings, args.configs)
+        out = write_report(args.table, args.out, args.figures, args.discussion, args.ceilings, args.configs,
+                           args.procedural_ceilings)
     except (ValueError, OSError) as err:
         raise SystemExit(f"error: {err}")
     print(f"wrote {out}")

@@ -9,8 +9,9 @@ agents/study/table.py. Tests with other task options (``tests/<key=value,...>/ev
 
 * config hash: the first 12 hex digits of the SHA-256 of the resolved config as canonical JSON
   (sorted keys), without the fields that say where and how a run was made rather than what was
-  trained: ``name``, ``seed``, the ``run`` group (folder, checkpoints, device, progress) and the
-  test fields ``eval_after_training`` and ``eval_out``. The seeds of one experiment share it.
+  trained: ``name``, ``description``, ``seed``, the ``run`` group (folder, checkpoints, device,
+  progress) and the test fields ``eval_after_training``, ``eval_out``, ``eval_task_kwargs`` and
+  ``also_test_on`` (a row's ``tested_on`` says which test it is). The seeds of one experiment share it.
 * convergence episode: the first training episode at which the success rate over the last
   WINDOW episodes reaches 90% of its value over the run's last WINDOW episodes (only full
   windows; none if the run ends at 0%).
@@ -39,7 +40,7 @@ BLOCK = 50
 """training episodes per block of the down-sampled training curve"""
 CURVES = ("return", "loss", "success")
 """metrics.csv columns kept as down-sampled curves"""
-NOT_HASHED = {"name": None, "seed": None, "run": None,
+NOT_HASHED = {"name": None, "description": None, "seed": None, "run": None,
               "test": ("eval_after_training", "eval_out", "eval_task_kwargs", "also_test_on")}
 """config fields left out of the config hash (None: the whole field or group)"""
 REQUIRED = ("config.yaml", "metrics.csv", "eval.json")

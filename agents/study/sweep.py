@@ -202,6 +202,10 @@ def run_sweep(config_paths: list[str], seeds: list[int], out: str | Path, addres
         if address:
             ray.init(address=address, log_to_driver=False)
         else:
+            # Ray runs its workers at niceness 15, so any other busy process on the machine would
+            # starve the runs: they run at the sweep's own priority instead (RAY_worker_niceness, if
+            # set, still decides)
+            os.environ.setdefault("RAY_worker_niceness", str(os.nice(0)))
             ray.init(address="local", num_cpus=num_cpus or os.cpu_count(), include_dashboard=False,
                      log_to_driver=False)  # "local": a new instance even if `ray start` ran here
     task = ray.remote(num_cpus=1, max_retries=max_retries, retry_exceptions=True)(execute)

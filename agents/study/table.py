@@ -1,6 +1,6 @@
 """The run table: every finished run as one row, the data RESULTS.md and its figures are made from.
 
-    python -m agents.study.table add RUN_DIR [RUN_DIR ...] [--experiment NAME] [--table results]
+    python -m agents.study.table add RUN_DIR [RUN_DIR ...] [--experiment NAME] [--table results] [--keep]
     python -m agents.study.table show [--table results]
 
 A table is a folder holding two gzip CSV files (UTF-8, a header line, rows sorted by their key,
@@ -208,13 +208,16 @@ def main(argv: list[str] | None = None) -> None:
     add.add_argument("--experiment", default=None,
                      help="their experiment name (default: the sweep's, from sweep_run.json, else the config's name)")
     add.add_argument("--table", default=DEFAULT_TABLE, help=f"table folder (default {DEFAULT_TABLE})")
+    add.add_argument("--keep", action="store_true",
+                     help="keep the rows the table has for these runs (add only their tests it lacks)")
     show = sub.add_parser("show", help="per experiment: runs and mean test success")
     show.add_argument("--table", default=DEFAULT_TABLE, help=f"table folder (default {DEFAULT_TABLE})")
     args = parser.parse_args(argv)
     try:
         if args.command == "add":
-            counts = add_runs(args.table, args.run_dirs, args.experiment)
-            print(f"{args.table}: {counts['added']} run(s) added, {counts['replaced']} replaced, "
+            counts = add_runs(args.table, args.run_dirs, args.experiment, replace=not args.keep)
+            kept = f", {counts['kept']} kept as they were" if counts["kept"] else ""
+            print(f"{args.table}: {counts['added']} run(s) added, {counts['replaced']} replaced{kept}, "
                   f"{counts['runs']} in the table")
             return
         rows = read_table(args.table)

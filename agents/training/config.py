@@ -16,9 +16,9 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, field
-from typing import Literal, Optional, Union
+from typing import Literal, Optional
 
-TaskOption = Union[int, float, bool, str]
+from dynnav_tasks.task_options import TaskOption, parse_task_options
 
 
 @dataclass
@@ -291,7 +291,10 @@ def validate(c: Config) -> None:
     if cam.camera_input == "pixels" and not cam.camera_frames:
         raise ValueError("camera_input pixels reads camera frames: set camera_frames (1: RGB, N >= 2: N gray frames)")
     for entry in c.test.also_test_on:
-        parse_task_options(entry)
+        try:
+            parse_task_options(entry)
+        except ValueError as err:
+            raise ValueError(f"also_test_on: {err}") from err
     check_device(c.run.device)
     if c.eval and not c.checkpoint:
         raise ValueError("--eval needs --checkpoint <checkpoint or run directory>")
@@ -314,30 +317,3 @@ def check_device(device: str) -> None:
     elif dev.type != "cpu":
         raise ValueError(f"device {device!r}: use cpu, cuda or cuda:N")
 
-
-def parse_task_options(text: str) -> dict[str, TaskOption]:
-    """'key=value,key=value' -> task options; values read as YAML scalars (4 -> int, 1.5 -> float,
-    ood -> str). ValueError saying what is wrong."""
-    import yaml
-
-    options: dict[str, TaskOption] = {}
-    for part in text.split(","):
-        key, sep, value = part.partition("=")
-        key = key.strip()
-        if not sep or not key or not value.strip():
-            raise ValueError(f"also_test_on entry {text!r}: write task options as key=value, separated by commas "
-                             f"(e.g. split=ood or obstacle_count=4,obstacle_speed_scale=1.5)")
-        parsed = yaml.safe_load(value.strip())
-        if not isinstance(parsed, (int, float, bool, str)):
-            raise ValueError(f"also_test_on entry {text!r}: the value of {key} must be a number, true/false or a "
-                             f"word, got {value.strip()!r}")
-        if key in options:
-            raise ValueError(f"also_test_on entry {text!r} sets {key} twice")
-        options[key] = parsed
-    return options
-
-
-def tested_on(options: dict[str, TaskOption]) -> str:
-    """The name of a test's task options as the run table keys it: 'key=value,...' with the keys
-    sorted ('' for the run's own task)."""
-    return ",".join(f"{k}={'true' if v is True else 'false' if v is False else v}" for k, v in sorted(options.items()))

@@ -26,7 +26,6 @@ import numpy as np
 from agents.core.policy import Policy
 from agents.files import atomic_write_bytes
 from agents.training import checkpoint as ckpt
-from agents.training.config import parse_task_options, tested_on
 from agents.training.envs import is_dynnav
 from agents.training.policy_loading import load_policy
 from agents.training.rollout import greedy, open_recorder, rollout
@@ -34,6 +33,7 @@ from agents.training.run_lock import RunDirLock
 from agents.training.stats import spl, summarize
 from agents.training.test_report import draw_trajectories, write_results
 from agents.training.threads import limit_threads
+from dynnav_tasks.task_options import options_name, parse_task_options
 
 
 def run_episodes(policy: Policy, episodes: int, seed: int, recorder=None, latents: list | None = None,
@@ -93,18 +93,19 @@ TESTS_DIR = "tests"
 
 def test_dir(run_dir: Path, options: dict) -> Path:
     """Where a test with task ``options`` of the run in ``run_dir`` is written: tests/<key=value,...>/."""
-    return Path(run_dir) / TESTS_DIR / tested_on(options)
+    return Path(run_dir) / TESTS_DIR / options_name(options)
 
 
 def evaluate_as_configured(config, checkpoint_path, out_dir=None, only_missing: bool = False, **kwargs) -> dict:
     """``evaluate`` with the test settings of ``config`` (eval_episodes, eval_seed, eval_picture,
-    eval_epsilon, eval_task_kwargs), then one more test per ``also_test_on`` entry; returns the
-    first test's summary. ``out_dir``: the first test's folder (default: the run directory; with
-    --eval and task options, tests/<options>/ in it); ``only_missing``: skip the tests whose
-    eval.json exists. ``kwargs`` go to ``evaluate`` (verbose, rerun, device)."""
+    eval_epsilon, eval_task_kwargs), then one more test per ``also_test_on`` entry, each in
+    tests/<entry>/ of the run directory (of ``out_dir`` if given); returns the first test's summary.
+    ``out_dir``: the first test's folder (default: the run directory; with --eval and task options,
+    tests/<options>/ in it); ``only_missing``: skip the tests whose eval.json exists. ``kwargs`` go to ``evaluate`` (verbose, rerun, device)."""
     t = config.test
     extra = [parse_task_options(entry) for entry in t.also_test_on]  # errors before any test runs
     run_dir = ckpt.resolve(checkpoint_path).parent
+    home = Path(out_dir) if out_dir is not None else run_dir  # the extra tests go to its tests/
     if out_dir is None and config.eval and t.eval_task_kwargs:
         out_dir = test_dir(run_dir, t.eval_task_kwargs)
     settings = dict(episodes=t.eval_episodes, seed=t.eval_seed, picture=t.eval_picture, epsilon=t.eval_epsilon)
@@ -113,7 +114,7 @@ def evaluate_as_configured(config, checkpoint_path, out_dir=None, only_missing: 
     if not (only_missing and (first / "eval.json").is_file()):
         summary = evaluate(checkpoint_path, out_dir=out_dir, task_kwargs=t.eval_task_kwargs, **settings, **kwargs)
     for options in extra:
-        where = test_dir(first, options)
+        where = test_dir(home, options)
         if not (only_missing and (where / "eval.json").is_file()):
             evaluate(checkpoint_path, out_dir=where, task_kwargs=options, **settings, **kwargs)
     return summary
@@ -159,8 +160,8 @@ def run_test_phase(policy: Policy, out_dir: Path, episodes: int, seed: int, pict
     summary = summarize(records, epsilon)
     options = dict(task_kwargs or {})
     result = dict(task=config.task, checkpoint=str(path), trained_episodes=trained, eval_seed=seed,
-                  task_kwargs=options, tested_on=tested_on(options), summary=summary, episodes=records)
-    on = f" on {tested_on(options)}" if options else ""
+                  task_kwargs=options, tested_on=options_name(options), summary=summary, episodes=records)
+    on = f" on {options_name(options)}" if options else ""
     table = write_results(out_dir, result, f"Test of {path} after {trained} training episodes{on}")
     if verbose:
         print(f"\ntest phase: {path} ({trained} training episodes)\n")

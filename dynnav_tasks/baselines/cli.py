@@ -67,10 +67,13 @@ def _merge_json(path: str, key: str, value: dict) -> None:
 
 
 def run_over_tasks(task: Optional[str], allowed: Sequence[str], what: str, episodes: int, first_seed: int,
-                   run: Callable[[str, range], object], out: Optional[str] = None) -> None:
+                   run: Callable[[str, range], object], out: Optional[str] = None, options: Optional[dict] = None) -> None:
     """Call ``run(task_id, seeds)`` for ``task`` (or every id in ``allowed`` when None) and print
     each result's ``summary()``; with ``out``, also merge each task's ``outcome_rates`` into that
-    JSON file. Bad input exits with a message that names it, before any episode runs."""
+    JSON file, as the entry ``task_id`` (with the task ``options`` ``run`` uses: ``"task_id
+    [key=value,...]"``). Bad input exits with a message that names it, before any episode runs."""
+    from dynnav_tasks.task_options import options_name
+
     from dynnav_tasks.errors import check_choice
 
     try:
@@ -83,7 +86,8 @@ def run_over_tasks(task: Optional[str], allowed: Sequence[str], what: str, episo
         result = run(task_id, seeds)
         print(result.summary())
         if out is not None:
-            merge_json(out, task_id, outcome_rates(result.outcomes, first_seed))
+            key = f"{task_id} [{options_name(options)}]" if options else task_id
+            merge_json(out, key, outcome_rates(result.outcomes, first_seed))
 
 
 def run_over_cells(task: str, difficulty: Optional[str], split: Optional[str], episodes: int, first_seed: int,

@@ -290,6 +290,9 @@ class Args:
     """with a procedural task: "easy", "medium" or "hard" (default: each)"""
     split: Optional[str] = None
     """with a procedural task: "train", "test" or "ood" (default: each)"""
+    task_options: Optional[str] = None
+    """with a study task: its options as key=value,... (e.g. obstacle_count=4,obstacle_speed_scale=1.5
+    for 5.3's transfer test); the --out entry is then named "<task> [<options>]" """
     episodes: int = 200
     """episodes per task (seeds first_seed .. first_seed + episodes - 1)"""
     first_seed: int = 0
@@ -319,8 +322,19 @@ def main(args: Args) -> None:
         return
     if args.difficulty or args.split:
         raise SystemExit(f"error: --difficulty and --split apply to a procedural task ({', '.join(PROCEDURAL_TASK_IDS)})")
+    options = {}
+    if args.task_options is not None:
+        from dynnav_tasks.task_options import parse_task_options
+
+        if not args.task:
+            raise SystemExit("error: --task-options needs --task (the options are one task's)")
+        try:
+            options = parse_task_options(args.task_options)
+        except ValueError as err:
+            raise SystemExit(f"error: {err}")
     run_over_tasks(args.task, TASK_IDS, "task id", args.episodes, args.first_seed,
-                   lambda task, seeds: run_planner(task, seeds, progress=True, **planner), out=args.out)
+                   lambda task, seeds: run_planner(task, seeds, progress=True, task_kwargs=options, **planner),
+                   out=args.out, options=options)
 
 
 if __name__ == "__main__":

@@ -1,0 +1,185 @@
+"""The report's generalization section: navigators tested in worlds other than their training's.
+
+Made from the run table's rows with a ``tested_on`` (tests with other task options, see
+agents/training/test_phase.py):
+
+* procedural navigators (task ``DynNav-Procedural-v1``), one row per training experiment and
+  test (``difficulty=..,split=..``): success, collision and timeout rates and SPL, as means over
+  seeds (success with the seeds' standard deviation), beside the full-state planner's ceiling and
+  the go-to-target floor of the same difficulty and split (``procedural_ceilings.json``, written
+  by ``dynnav_tasks.baselines.state_planner`` and ``go_to_target`` with ``--out``);
+* a figure of test success against the number of moving obstacles and the arena's longer side,
+  per training experiment, over the test episodes of every split and seed (the episode table's
+  ``moving_obstacles`` and ``arena_side``), in bins with at least MIN_EPISODES episodes;
+* transfer tests of the fixed worlds' navigators (e.g. 5.3 with ``obstacle_count=4,
+  obstacle_speed_scale=1.5``): the same seeds' success in their own world and in the changed one,
+  each beside the planner's ceiling there (``ceilings.json``, entries ``"<task> [<options>]"``).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from agents.files import save_figure
+from dynnav_tasks.task_options import parse_task_options
+
+PROCEDURAL_TASK = "DynNav-Procedural-v1"
+OBSTACLE_BINS = (0, 1, 4, 7, 10, 13, 16, 21, 26, 31)
+"""moving-obstacle count bins [a, b) of the figure"""
+ARENA_BINS = (6.0, 8.0, 10.0, 12.0, 14.0, 17.0, 20.01)
+"""arena longer-side bins [a, b) of the figure (m)"""
+MIN_EPISODES = 20
+"""test episodes a bin needs to be drawn"""
+SPLIT_ORDER = {"train": 0, "test": 1, "ood": 2}
+
+
+def _mean(rows: list[dict], key: str) -> float | None:
+    values = [r[key] for r in rows if r[key] is not None]
+    return float(np.mean(values)) if values else None
+
+
+def _pct(x: float | None) -> str:
+    return "-" if x is None else f"{x:.0%}"
+
+
+def _grouped(rows: list[dict]) -> dict[tuple[str, str], list[dict]]:
+    out: dict[tuple[str, str], list[dict]] = {}
+    for r in sorted(rows, key=lambda r: (r["experiment"], r["tested_on"], r["seed"])):
+        out.setdefault((r["experiment"], r["tested_on"]), []).append(r)
+    return out
+
+
+def _test_order(key: tuple[str, str]):
+    options = parse_task_options(key[1])
+    return key[0], str(options.get("difficulty", "")), SPLIT_ORDER.get(str(options.get("split")), 9), key[1]
+
+
+def procedural_table(rows: list[dict], cells: dict[str, dict]) -> list[str]:
+    """Markdown rows: per procedural experiment and test, the rates beside the planner and floor."""
+    groups = _grouped([r for r in rows if r["task"] == PROCEDURAL_TASK and r["tested_on"]])
+    if not groups:
+        return []
+    lines = ["| trained | tested on | seeds | success (sd) | collision | timeout | SPL | planner ceiling (SPL) | "
+             "go to target |", "|---|---|---|---|---|---|---|---|---|"]
+    for key in sorted(groups, key=_test_order):
+        runs = groups[key]
+        options = parse_task_options(key[1])
+        cell = f"{options.get('difficulty')}/{options.get('split')}"
+        rates = np.array([r["success_rate"] for r in runs])
+        sd = f" ({rates.std(ddof=1):.0%})" if len(runs) > 1 else ""
+        planner, floor = cells.get(f"state_planner/{cell}"), cells.get(f"go_to_target/{cell}")
+        ceiling = f"{planner['success']:.0%} ({planner['spl']:.2f})" if planner else "not measured"
+        lines.append(f"| `{key[0]}` | {cell} | {len(runs)} | {rates.mean():.0%}{sd} | {_pct(_mean(runs, 'collision_rate'))} "
+                     f"| {_pct(_mean(runs, 'timeout_rate'))} | {_mean(runs, 'spl') or 0:.2f} | {ceiling} | "
+                     f"{_pct(floor['success']) if floor else 'not measured'} |")
+    return lines
+
+
+def transfer_table(rows: list[dict], ceilings: dict[str, float]) -> list[str]:
+    """Markdown rows: per fixed-world experiment tested with other options, its seeds' success at
+    home and there, each beside the planner's."""
+    groups = _grouped([r for r in rows if r["task"] != PROCEDURAL_TASK and r["tested_on"]])
+    if not groups:
+        return []
+    home = {(r["experiment"], r["config_hash"], r["seed"]): r for r in rows if not r["tested_on"]}
+    lines = ["| experiment | tested on | seeds | success in its world | planner there | success tested on | "
+             "collision | timeout | planner there |", "|---|---|---|---|---|---|---|---|---|"]
+    for (experiment, on), runs in sorted(groups.items()):
+        task = runs[0]["task"]
+        own = [home[k] for k in ((experiment, r["config_hash"], r["seed"]) for r in runs) if k in home]
+        at_home, there = ceilings.get(task), ceilings.get(f"{task} [{on}]")
+        lines.append(f"| `{experiment}` | `{on}` | {len(runs)} | {_pct(_mean(own, 'success_rate'))} | {_pct(at_home)} | "
+                     f"{_pct(_mean(runs, 'success_rate'))} | {_pct(_mean(runs, 'collision_rate'))} | "
+                     f"{_pct(_mean(runs, 'timeout_rate'))} | {_pct(there)} |")
+    return lines
+
+
+def _binned(episodes: list[dict], key: str, bins) -> tuple[list[float], list[float], list[int]]:
+    x, y, n = [], [], []
+    values = np.array([e[key] for e in episodes], dtype=float)
+    success = np.array([e["outcome"] == "success" for e in episodes], dtype=float)
+    for lo, hi in zip(bins[:-1], bins[1:]):
+        inside = (values >= lo) & (values < hi)
+        if inside.sum() >= MIN_EPISODES:
+            x.append(float(values[inside].mean()))
+            y.append(float(success[inside].mean()))
+            n.append(int(inside.sum()))
+    return x, y, n
+
+
+def draw_generalization(episodes: list[dict], path: Path, experiments: set[str]) -> bool:
+    """The figure of success against obstacle count and arena side over the test episodes of
+    ``experiments`` (the procedural ones); False (nothing written) if none records its world."""
+    by_experiment: dict[str, list[dict]] = {}
+    for e in episodes:
+        if (e["experiment"] in experiments and e["tested_on"] and e["moving_obstacles"] is not None
+                and e["arena_side"] is not None):
+            by_experiment.setdefault(e["experiment"], []).append(e)
+    if not by_experiment:
+        return False
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(9, 4), dpi=100, sharey=True)
+    panels = (("moving_obstacles", OBSTACLE_BINS, "moving obstacles in the world"),
+              ("arena_side", ARENA_BINS, "arena's longer side (m)"))
+    for (key, bins, label), ax in zip(panels, axes):
+        for experiment in sorted(by_experiment):
+            x, y, n = _binned(by_experiment[experiment], key, bins)
+            ax.plot(x, y, marker="o", linewidth=1.5, label=f"{experiment} ({len(by_experiment[experiment])} episodes)")
+        ax.set_xlabel(label)
+        ax.set_ylim(0, 1.02)
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("test success")
+    axes[1].legend(loc="upper right", fontsize=7)
+    fig.suptitle("Test success in procedural worlds (train, test and ood splits, every seed; "
+                 f"bins of {MIN_EPISODES}+ episodes)", fontsize=10)
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    try:
+        save_figure(fig, path, metadata={"Software": None})
+    finally:
+        plt.close(fig)
+    return True
+
+
+def generalization_section(rows: list[dict], episodes: list[dict], cells: dict[str, dict],
+                           ceilings: dict[str, float], figure: Path | None, figure_link: str) -> list[str]:
+    """The section's Markdown lines ([] if the table holds no test with other options); draws the
+    figure into ``figure`` (None: no figure)."""
+    procedural, transfer = procedural_table(rows, cells), transfer_table(rows, ceilings)
+    if not procedural and not transfer:
+        return []
+    lines = ["", "## Generalization", ""]
+    if procedural:
+        lines += ["Navigators trained on a difficulty's train worlds of `DynNav-Procedural-v1` (a new world every "
+                  "episode, `configs/procedural/`), each tested on 100 episodes of the held-out test worlds, of "
+                  "train worlds and of the out-of-distribution worlds (larger arenas, more and faster obstacles, "
+                  "unseen layouts; `docs/procedural.md`). Rates are means over seeds; the planner sees the full "
+                  "state (`dynnav_tasks.baselines.state_planner`, 200 episodes), the floor turns to the target and "
+                  "drives (`go_to_target`, 200 episodes).", "", *procedural]
+        procedural_experiments = {r["experiment"] for r in rows if r["task"] == PROCEDURAL_TASK}
+        if figure is not None and draw_generalization(episodes, figure, procedural_experiments):
+            lines += ["", f"![Test success against obstacle count and arena size]({figure_link})"]
+    if transfer:
+        lines += ["", "A fixed world's navigator tested in a changed world (the task options after *tested on*; "
+                  "5.3's state keeps its two obstacle places, which hold the two boxes nearest to the robot): "
+                  "the same seeds at home and there.", "", *transfer]
+    return lines
+
+
+def load_cells(path: str | Path | None) -> dict[str, dict]:
+    """The entries of a procedural ceilings file (``controller/difficulty/split`` -> rates), {} if none."""
+    import json
+
+    if path is None or not Path(path).is_file():
+        return {}
+    try:
+        data = json.loads(Path(path).read_text())
+        return {k: dict(success=float(v["success"]), spl=float(v.get("spl", 0.0))) for k, v in data.items()}
+    except (ValueError, KeyError, TypeError, AttributeError) as err:
+        raise ValueError(f"procedural ceilings file {str(path)!r} is not what the baselines' --out writes: {err}")

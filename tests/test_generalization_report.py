@@ -1,0 +1,150 @@
+"""RESULTS.md's generalization section (agents.study.generalization via agents.study.report): the
+procedural navigators on their test and ood worlds beside the planner and the floor, the figure
+of success against world size and crowding, and 5.3's navigator tested with more and faster boxes."""
+
+import json
+from pathlib import Path
+
+import pytest
+
+from agents.study.report import write_report
+from agents.study.table import EPISODE_COLUMNS, RUN_COLUMNS, add_rows, read_table
+
+FIXED = "DynNav-MovingObstacles-v1"
+PROCEDURAL = "DynNav-Procedural-v1"
+MORE_BOXES = "obstacle_count=4,obstacle_speed_scale=1.5"
+TEST, OOD = "difficulty=easy,split=test", "difficulty=easy,split=ood"
+
+
+def run_row(experiment: str, seed: int, success: float, tested_on: str = "", task: str = FIXED,
+            collision: float = 0.0, spl: float = 0.5) -> dict:
+    """A run row as agents.study.table stores it: 100 test episodes, 400 training episodes."""
+    row = dict(experiment=experiment, config_hash="0123456789ab", seed=seed, tested_on=tested_on, task=task, commit="",
+               run=f"{task}__{experiment}__{seed}__20260101-000000", test_episodes=100, success_rate=success,
+               collision_rate=collision, timeout_rate=round(1 - success - collision, 6), avg_steps_success=40.0,
+               spl=spl, avg_return=-10.0, converge_episode=300, wall_clock_s=60.0, train_s=55.0, eval_s=5.0,
+               episodes_planned=400, episodes_done=400, curve_block=50, curve_return=" ".join(["-5"] * 8),
+               curve_loss=" ".join(["nan"] + ["0.5"] * 7), curve_success=" ".join(["0.5"] * 8))
+    assert set(row) == set(RUN_COLUMNS)
+    return row
+
+
+def episode_rows(run: dict, worlds: list[tuple[float, int]]) -> list[dict]:
+    """The run's test episodes in worlds of (arena side, moving obstacles); every third one succeeds."""
+    rows = [dict({k: run[k] for k in ("experiment", "config_hash", "seed", "tested_on")}, episode=i,
+                 episode_seed=1_000_000 + i, outcome="success" if i % 3 == 0 else "collision", steps=40,
+                 episode_return=-1.0, spl=0.5 if i % 3 == 0 else 0.0, world_seed=100 + i, arena_side=side,
+                 moving_obstacles=boxes) for i, (side, boxes) in enumerate(worlds)]
+    assert all(set(r) == set(EPISODE_COLUMNS) for r in rows)
+    return rows
+
+
+def study_table(folder: Path) -> Path:
+    """5.3 (seeds 1-2) at home and with more and faster boxes, and procedural-easy (seeds 1-2) on
+    its test worlds (6-8 m, 0-3 boxes) and ood worlds (14-20 m, 6-12 boxes), 40 episodes each."""
+    runs = [run_row("5.3", 1, 0.90, collision=0.08), run_row("5.3", 2, 0.80, collision=0.15),
+            run_row("5.3", 1, 0.35, MORE_BOXES, collision=0.60), run_row("5.3", 2, 0.45, MORE_BOXES, collision=0.50),
+            run_row("procedural-easy", 1, 0.61, TEST, PROCEDURAL, collision=0.30, spl=0.52),
+            run_row("procedural-easy", 2, 0.73, TEST, PROCEDURAL, collision=0.20, spl=0.60),
+            run_row("procedural-easy", 1, 0.20, OOD, PROCEDURAL, collision=0.70, spl=0.15),
+            run_row("procedural-easy", 2, 0.34, OOD, PROCEDURAL, collision=0.60, spl=0.21)]
+    episodes = []
+    for run in runs:
+        if run["tested_on"] == TEST:
+            episodes += episode_rows(run, [(6.0 + 0.1 * (i % 20), i % 4) for i in range(40)])
+        elif run["tested_on"] == OOD:
+            episodes += episode_rows(run, [(14.0 + 0.3 * (i % 20), 6 + i % 7) for i in range(40)])
+        elif run["tested_on"] == MORE_BOXES:
+            episodes += episode_rows(run, [(6.5, 4)] * 40)
+    add_rows(folder, runs, episodes)
+    return folder
+
+
+def write_ceilings(folder: Path) -> None:
+    """The planner's ceilings where the report looks by default (docs/results/ next to it)."""
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / "ceilings.json").write_text(json.dumps({
+        FIXED: dict(success=0.98, collision=0.02, timeout=0.0, episodes=200, first_seed=0),
+        f"{FIXED} [{MORE_BOXES}]": dict(success=0.71, collision=0.29, timeout=0.0, episodes=200, first_seed=0)}))
+    cells = {f"{controller}/easy/{split}": dict(task=PROCEDURAL, difficulty="easy", split=split, success=success,
+                                                collision=1 - success, timeout=0.0, episodes=200, spl=spl)
+             for controller, split, success, spl in [("state_planner", "test", 0.95, 0.81),
+                                                     ("state_planner", "ood", 0.70, 0.55),
+                                                     ("go_to_target", "test", 0.40, 0.38),
+                                                     ("go_to_target", "ood", 0.10, 0.09)]}
+    (folder / "procedural_ceilings.json").write_text(json.dumps(cells))
+
+
+def section(text: str, title: str) -> str:
+    return text.split(f"## {title}\n")[1].split("\n## ")[0]
+
+
+def line_starting(text: str, start: str) -> str:
+    (line,) = [line for line in text.splitlines() if line.startswith(start)]
+    return line
+
+
+def test_the_generalization_section_sets_each_test_beside_the_planner(tmp_path):
+    table = study_table(tmp_path / "results")
+    write_ceilings(tmp_path / "docs" / "results")
+    text = write_report(table, out=tmp_path / "RESULTS.md").read_text()
+    general = section(text, "Generalization")
+    # seeds 61% and 73%: mean 67%, sd 8.5 points; collision (30 + 20) / 2, timeout (9 + 7) / 2, SPL (0.52 + 0.60) / 2
+    assert line_starting(general, "| `procedural-easy` | easy/test |") == (
+        "| `procedural-easy` | easy/test | 2 | 67% (8%) | 25% | 8% | 0.56 | 95% (0.81) | 40% |")
+    # seeds 20% and 34%: mean 27%, sd 9.9 points; collision 65%, timeout (10 + 6) / 2
+    assert line_starting(general, "| `procedural-easy` | easy/ood |") == (
+        "| `procedural-easy` | easy/ood | 2 | 27% (10%) | 65% | 8% | 0.18 | 70% (0.55) | 10% |")
+    assert general.index("easy/test") < general.index("easy/ood")
+    # 5.3 at home (90%, 80%) and with more boxes (35%, 45%; collision 60%, 50%), each beside the planner
+    assert line_starting(general, "| `5.3` |") == (
+        f"| `5.3` | `{MORE_BOXES}` | 2 | 85% | 98% | 40% | 55% | 5% | 71% |")
+    figure = tmp_path / "docs" / "results" / "generalization.png"
+    assert "](docs/results/generalization.png)" in general
+    assert figure.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and figure.stat().st_size > 5000
+
+    every = section(text, "Every experiment")
+    assert "procedural-easy" not in every and MORE_BOXES not in every
+    # 5.3's row holds its own tests only: 2 seeds, (90% + 80%) / 2
+    assert "| `5.3` | DynNav-MovingObstacles-v1 | 2 | 85% (" in line_starting(every, "| `5.3` |")
+    assert line_starting(every, "| `5.3` |").endswith("| 90% 80% |")
+
+
+def test_without_the_planners_numbers_the_cells_say_so(tmp_path):
+    table = study_table(tmp_path / "results")
+    general = section(write_report(table, out=tmp_path / "RESULTS.md").read_text(), "Generalization")
+    assert line_starting(general, "| `procedural-easy` | easy/test |").endswith("| not measured | not measured |")
+    assert line_starting(general, "| `5.3` |").endswith("| 85% | - | 40% | 55% | 5% | - |")
+
+
+def test_a_table_without_tests_in_other_worlds_has_no_such_section(tmp_path):
+    add_rows(tmp_path / "results", [run_row("5.3", 1, 0.9), run_row("5.3", 2, 0.8)], [])
+    text = write_report(tmp_path / "results", out=tmp_path / "RESULTS.md").read_text()
+    assert "## Generalization" not in text
+    assert not (tmp_path / "docs" / "results" / "generalization.png").exists()
+
+
+def test_a_missing_procedural_ceilings_file_is_refused_before_anything_is_written(tmp_path):
+    table = study_table(tmp_path / "results")
+    with pytest.raises(ValueError, match="procedural ceilings file .*nowhere.json.* does not exist"):
+        write_report(table, out=tmp_path / "out" / "RESULTS.md", procedural_ceilings=tmp_path / "nowhere.json")
+    assert not (tmp_path / "out").exists()
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps({"state_planner/easy/test": 0.9}))
+    with pytest.raises(ValueError, match="is not what the baselines' --out writes"):
+        write_report(table, out=tmp_path / "out" / "RESULTS.md", procedural_ceilings=bad)
+    assert not (tmp_path / "out").exists()
+
+
+
+def test_the_figure_shows_the_procedural_tests_only(tmp_path):
+    full = study_table(tmp_path / "full")
+    procedural = [lambda r: True, lambda r: r["experiment"] != "5.3" or not r["tested_on"]]  # with / without transfer
+    pictures = []
+    for i, keep in enumerate(procedural):
+        table = tmp_path / str(i) / "results"
+        runs, episodes = read_table(full), read_table(full, episodes=True)
+        add_rows(table, [r for r in runs if keep(r)], [e for e in episodes if keep(e)])
+        write_report(table, out=tmp_path / str(i) / "RESULTS.md")
+        pictures.append((tmp_path / str(i) / "docs" / "results" / "generalization.png").read_bytes())
+    assert pictures[0] == pictures[1]
