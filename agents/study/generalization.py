@@ -9,8 +9,9 @@ agents/training/test_phase.py):
   the go-to-target floor of the same difficulty and split (``procedural_ceilings.json``, written
   by ``dynnav_tasks.baselines.state_planner`` and ``go_to_target`` with ``--out``);
 * a figure of test success against the number of moving obstacles and the arena's longer side,
-  per training experiment, over the test episodes of every split and seed (the episode table's
-  ``moving_obstacles`` and ``arena_side``), in bins with at least MIN_EPISODES episodes;
+  per training experiment, over the test episodes of every seed (the episode table's
+  ``moving_obstacles`` and ``arena_side``), in bins with at least MIN_EPISODES episodes, one line
+  for the train and test worlds and one (dashed) for the ood worlds;
 * transfer tests of the fixed worlds' navigators (e.g. 5.3 with ``obstacle_count=4,
   obstacle_speed_scale=1.5``): the same seeds' success in their own world and in the changed one,
   each beside the planner's ceiling there (``ceilings.json``, entries ``"<task> [<options>]"``).
@@ -109,6 +110,10 @@ def _binned(episodes: list[dict], key: str, bins) -> tuple[list[float], list[flo
     return x, y, n
 
 
+def _split(row: dict) -> str:
+    return str(parse_task_options(row["tested_on"]).get("split", ""))
+
+
 def draw_generalization(episodes: list[dict], path: Path, experiments: set[str]) -> bool:
     """The figure of success against obstacle count and arena side over the test episodes of
     ``experiments`` (the procedural ones); False (nothing written) if none records its world."""
@@ -127,17 +132,24 @@ def draw_generalization(episodes: list[dict], path: Path, experiments: set[str])
     fig, axes = plt.subplots(1, 2, figsize=(9, 4), dpi=100, sharey=True)
     panels = (("moving_obstacles", OBSTACLE_BINS, "moving obstacles in the world"),
               ("arena_side", ARENA_BINS, "arena's longer side (m)"))
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     for (key, bins, label), ax in zip(panels, axes):
-        for experiment in sorted(by_experiment):
-            x, y, n = _binned(by_experiment[experiment], key, bins)
-            ax.plot(x, y, marker="o", linewidth=1.5, label=f"{experiment} ({len(by_experiment[experiment])} episodes)")
+        for i, experiment in enumerate(sorted(by_experiment)):
+            episodes_of = by_experiment[experiment]
+            ood = [_split(e) == "ood" for e in episodes_of]
+            for out, style, where in ((False, "-", "train and test worlds"), (True, "--", "ood worlds")):
+                part = [e for e, o in zip(episodes_of, ood) if o == out]
+                x, y, _ = _binned(part, key, bins)
+                if x:
+                    ax.plot(x, y, style, marker="o", markerfacecolor="white" if out else None, linewidth=1.5,
+                            color=colours[i % len(colours)], label=f"{experiment}: {where} ({len(part)} episodes)")
         ax.set_xlabel(label)
         ax.set_ylim(0, 1.02)
         ax.grid(alpha=0.3)
     axes[0].set_ylabel("test success")
     axes[1].legend(loc="upper right", fontsize=7)
-    fig.suptitle("Test success in procedural worlds (train, test and ood splits, every seed; "
-                 f"bins of {MIN_EPISODES}+ episodes)", fontsize=10)
+    fig.suptitle("Test success in procedural worlds, every seed (solid: train and test worlds; dashed: ood "
+                 f"worlds; bins of {MIN_EPISODES}+ episodes)", fontsize=10)
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
     try:
