@@ -111,3 +111,13 @@ def test_the_default_ring_is_the_studys():
 def test_bad_laser_options_are_errors_naming_the_option(make_env, option, value):
     with pytest.raises(ValueError, match=option):
         make_env("DynNav-OneObstacle-v1", **{option: value})
+
+
+def test_the_state_planner_reads_a_state_of_any_ray_count():
+    """The full-state planner finds the robot, the target and the obstacles after the lasers,
+    however many there are: the same episode with 16 or 90 rays."""
+    from dynnav_tasks.baselines.state_planner import run_planner
+
+    default = run_planner("DynNav-MotionAreas-v1", [2]).episodes[0]
+    wide = run_planner("DynNav-MotionAreas-v1", [2], task_kwargs={"laser_rays": 90}).episodes[0]
+    assert (wide.outcome, wide.steps) == (default.outcome, default.steps) == ("success", 39)
