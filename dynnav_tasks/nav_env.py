@@ -127,7 +127,8 @@ class NavEnv(Observations, TopDownView, BaseEnv):
         """the laser ring's rays, field of view and range (``lasers.py``)"""
         self.noise_config = NoiseConfig.from_task_options(noise, kwargs)  # takes its flat options out of kwargs
         """the noise and randomization options (``noise.py``; all off by default)"""
-        self._noise = EpisodeNoise(self.noise_config, self.drive_config) if self.noise_config.enabled else None
+        enabled = self.noise_config.enabled
+        self._noise = EpisodeNoise(self.noise_config, self.drive_config, self.laser_config.max_range) if enabled else None
         self._snapshot: Optional[StepSnapshot] = None
         self._outcome_of: Optional[StepSnapshot] = None  # outcome() of this snapshot is cached
         super().__init__(
@@ -174,8 +175,7 @@ class NavEnv(Observations, TopDownView, BaseEnv):
 
     def _load_scene(self, options: dict):
         self._px = self.scene.px
-        self._sensing = Sensing(self._px, self.agent.robot, collision_margin=self.collision_margin,
-                                lasers=self.laser_config)
+        self._sensing = Sensing(self._px, self.agent.robot, collision_margin=self.collision_margin, lasers=self.laser_config)
         self._use_world(self._build_world())
 
     def _build_world(self) -> BuiltWorld:
@@ -303,10 +303,8 @@ class NavEnv(Observations, TopDownView, BaseEnv):
         """``contact=None``: after a step, from PhysX's contacts and the footprint's overlap.
         Also makes the step's ``observed_snapshot``."""
         snapshot = self._sensing.take(step, self._target_xy, self._moving_xy, contact, previous, placed)
-        self._observed = snapshot
-        if self._noise is not None:
-            arena = self.world.arena
-            self._observed = self._noise.perceive(snapshot, contact is None, self.laser_range, (arena.x_range, arena.y_range))
+        noise = self._noise
+        self._observed = snapshot if noise is None else noise.perceive(snapshot, contact is None, self.world.arena)
         return snapshot
 
     @property

@@ -155,14 +155,16 @@ def scaled_drive(drive: DriveConfig, factor: float) -> DriveConfig:
 
 
 class EpisodeNoise:
-    """A task's noise at work (``NavEnv.episode_noise``): its generators, this episode's
-    factors and drift. Public and read-only: ``config``, ``robot_speed_factor`` and
+    """A task's noise at work (``NavEnv.episode_noise``) for its nominal ``drive`` and its
+    lasers' range: its generators, this episode's factors and drift. Public and read-only:
+    ``config``, ``robot_speed_factor`` and
     ``obstacle_speed_factor`` (this episode's), ``drift`` (the observed position's offset
     now, m) and ``executed_action`` (the action the robot ran in the last step)."""
 
-    def __init__(self, config: NoiseConfig, drive: DriveConfig):
+    def __init__(self, config: NoiseConfig, drive: DriveConfig, laser_range: float):
         self.config = config
         self.drive = drive
+        self.laser_range = float(laser_range)
         try:
             scaled_drive(drive, config.robot_speed_scale_max).validate()
         except ValueError as err:
@@ -213,11 +215,11 @@ class EpisodeNoise:
         self.executed_action = action
         return action
 
-    def perceive(self, snapshot: StepSnapshot, stepped: bool, laser_range: float, bounds) -> StepSnapshot:
+    def perceive(self, snapshot: StepSnapshot, stepped: bool, arena) -> StepSnapshot:
         """``snapshot`` as the agent perceives it: noisy, dropped and clipped laser readings
-        and the drifted position (clipped to ``bounds``, ((x0, x1), (y0, y1))). ``stepped``:
-        the snapshot follows a simulated step, so the drift takes a step first."""
-        c, rngs = self.config, self._rngs
+        and the drifted position (clipped to the ``arena``'s x and y ranges). ``stepped``: the
+        snapshot follows a simulated step, so the drift takes a step first."""
+        c, rngs, laser_range = self.config, self._rngs, self.laser_range
         lasers = snapshot.lasers
         if c.laser_noise_std > 0.0 or c.laser_dropout > 0.0:
             readings = lasers.astype(np.float64)
@@ -232,7 +234,7 @@ class EpisodeNoise:
             if stepped:
                 dx, dy = rngs["odometry_drift"].normal(0.0, c.odometry_drift_std, 2).tolist()
                 self.drift = (self.drift[0] + dx, self.drift[1] + dy)
-            (x0, x1), (y0, y1) = bounds
+            (x0, x1), (y0, y1) = arena.x_range, arena.y_range
             x = min(max(x + self.drift[0], x0), x1)
             y = min(max(y + self.drift[1], y0), y1)
         if lasers is snapshot.lasers and (x, y) == snapshot.pose[:2]:
