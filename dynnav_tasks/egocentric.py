@@ -9,7 +9,9 @@ the world, so a network trained in one world reads any other. Float32, in this o
 ====================  ======================================================================
 part                  meaning
 ====================  ======================================================================
-``lasers`` (16)       the laser ring's readings (m), ray 0 straight ahead, as in every task
+``lasers`` (n)        the laser ring's readings (m), as in every task: 16 rays, ray 0
+                      straight ahead, unless the task's ``laser_rays`` and
+                      ``laser_fov_deg`` say otherwise (``lasers.py``)
 ``target`` (3)        distance to the target's centre (m), sin and cos of its bearing (the
                       bearing is the ``StepSnapshot``'s: > 0 to the left; sin/cos has no
                       jump at +-pi)

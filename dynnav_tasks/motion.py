@@ -47,6 +47,11 @@ class Mover:
         """``advance``, returning the positions as (x, y) tuples of Python floats."""
         raise NotImplementedError
 
+    def scale_speed(self, factor: float) -> None:
+        """Move ``factor`` times as fast until the next ``reset`` (per-episode randomization,
+        ``noise.py``); draws nothing, so the motion's random draws stay as they were."""
+        raise NotImplementedError
+
 
 @dataclass(frozen=True)
 class Static:
@@ -79,6 +84,9 @@ class _StaticMover(Mover):
 
     def advance_points(self, rng):
         return list(self._points)
+
+    def scale_speed(self, factor):
+        pass  # nothing to scale
 
 
 @dataclass(frozen=True)
@@ -119,6 +127,7 @@ class _BackAndForthMover(Mover):
         return cx + t * dx, cy + t * dy
 
     def reset(self, rng):
+        self.speed = float(self.spec.speed)  # (a scaled speed lasts one episode)
         self.offset = rng.uniform(-self.amplitude, self.amplitude)
         self.sign = 1.0 if rng.integers(2) else -1.0
         return np.array([self._point()])
@@ -129,6 +138,9 @@ class _BackAndForthMover(Mover):
             s, self.sign = (2 * a - s, -1.0) if s > a else (-2 * a - s, 1.0)
         self.offset = s
         return [self._point()]
+
+    def scale_speed(self, factor):
+        self.speed *= factor
 
 
 @dataclass(frozen=True)
@@ -228,6 +240,9 @@ class _RouteMover(Mover):
         self.s = (self.s + self.speed) % self.length
         return self._points()
 
+    def scale_speed(self, factor):
+        self.speed *= factor
+
 
 @dataclass(frozen=True)
 class RandomInRect:
@@ -266,6 +281,7 @@ class _RandomInRectMover(Mover):
         self._speed = _UniformRange(*(float(v) for v in spec.speed_range))
         self._xy = [0.0, 0.0]
         self.heading = 0.0
+        self._factor = 1.0  # the episode's speed factor (scale_speed)
 
     @property
     def p(self) -> np.ndarray:
@@ -279,12 +295,18 @@ class _RandomInRectMover(Mover):
         else:
             self._xy = [float(v) for v in self.spec.start]
         self.heading = rng.uniform(-math.pi, math.pi)
+        self._factor = 1.0
         return np.array([self._xy])
+
+    def scale_speed(self, factor):
+        self._factor = float(factor)
 
     def advance_points(self, rng):
         turn, speed = self._turn, self._speed
         heading = self.heading + (turn.low + turn.span * rng.random())  # turn.draw(rng), inlined
         step = speed.low + speed.span * rng.random()  # speed.draw(rng)
+        if self._factor != 1.0:
+            step *= self._factor
         dx, dy = math.cos(heading), math.sin(heading)
         x, y = self._xy
         x, y = x + step * dx, y + step * dy

@@ -26,6 +26,12 @@ and ``observations.py`` for the camera's):
     16 laser readings (m) | robot x, y | target x, y | x, y of each moving obstacle
 (the procedural task observes the egocentric state instead, ``egocentric.py``).
 
+Sensors and noise (``docs/sensors.md``)
+    ``laser_rays`` (16), ``laser_fov_deg`` (360) and ``laser_range`` (5 m) set the laser
+    ring (``lasers.LaserConfig``); the state vector has one reading per ray. Sensor, odometry
+    and action noise and per-episode speed randomization (``noise.NoiseConfig``, all off by
+    default) are flat options such as ``laser_noise_std=0.02`` or one ``noise=`` dict.
+
 Step
     One control step is 0.2 s (``control_freq`` 5 Hz) simulated as 4 PhysX steps of 50 ms.
     Moving obstacles are kinematic bodies moved to interpolated targets at every PhysX step.
@@ -49,9 +55,11 @@ from mani_skill.utils.structs.types import SceneConfig, SimConfig
 from . import rewards as R
 from .camera import CameraSpec
 from .errors import check_choice
+from .lasers import LASER_RANGE, NUM_LASERS, LaserConfig
 from .motion import EpisodeMotion
+from .noise import EpisodeNoise, NoiseConfig
 from .observations import OBS_MODES, Observations
-from .robot import FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH, DiffBot, DriveConfig
+from .robot import FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH, DiffBot, DriveConfig, parse_action
 from .scene import HIDDEN_Z, BuiltWorld, add_lighting, build_world
 from .sensing import Sensing
 from .snapshot import StepSnapshot
@@ -90,6 +98,10 @@ class NavEnv(Observations, TopDownView, BaseEnv):
         turn_forward_step: float = DriveConfig.turn_forward_step,
         camera_size: int = CameraSpec.size,
         camera_render_size: Optional[int] = None,
+        laser_rays: int = NUM_LASERS,
+        laser_fov_deg: float = 360.0,
+        laser_range: float = LASER_RANGE,
+        noise: Optional[NoiseConfig | dict] = None,
         num_envs: int = 1,
         sim_backend: str = "physx_cpu",
         render_backend: str = "cpu",
@@ -111,6 +123,12 @@ class NavEnv(Observations, TopDownView, BaseEnv):
         )
         self.drive_config.validate()
         self.camera_spec = CameraSpec(size=camera_size, render_size=camera_render_size)
+        self.laser_config = LaserConfig.of(laser_rays, laser_fov_deg, laser_range)
+        """the laser ring's rays, field of view and range (``lasers.py``)"""
+        self.noise_config = NoiseConfig.from_task_options(noise, kwargs)  # takes its flat options out of kwargs
+        """the noise and randomization options (``noise.py``; all off by default)"""
+        enabled = self.noise_config.enabled
+        self._noise = EpisodeNoise(self.noise_config, self.drive_config, self.laser_config.max_range) if enabled else None
         self._snapshot: Optional[StepSnapshot] = None
         self._outcome_of: Optional[StepSnapshot] = None  # outcome() of this snapshot is cached
         super().__init__(
@@ -157,7 +175,7 @@ class NavEnv(Observations, TopDownView, BaseEnv):
 
     def _load_scene(self, options: dict):
         self._px = self.scene.px
-        self._sensing = Sensing(self._px, self.agent.robot, collision_margin=self.collision_margin)
+        self._sensing = Sensing(self._px, self.agent.robot, collision_margin=self.collision_margin, lasers=self.laser_config)
         self._use_world(self._build_world())
 
     def _build_world(self) -> BuiltWorld:
@@ -202,6 +220,8 @@ class NavEnv(Observations, TopDownView, BaseEnv):
                 body.set_kinematic_target(pose)
             moving.append(xy)
         self._moving_xy = np.concatenate(moving) if moving else np.zeros((0, 2))
+        if self._noise is not None:  # this episode's speed factors, from the noise's own generators
+            self._noise.start_episode(self.agent.controller, [mover for mover, _ in self._movers])
         self.agent.set_pose2d(*world.start.sample(rng))
         self.agent.controller.reset()
         # nothing has been simulated since the placement: PhysX's contacts are the last episode's
@@ -227,6 +247,8 @@ class NavEnv(Observations, TopDownView, BaseEnv):
             raise RuntimeError("call reset() before step()")
         if self._terminal():
             raise RuntimeError("the episode has ended (success or collision): call reset() before step()")
+        if self._noise is not None:
+            action = self._noise.execute(parse_action(action))
         self.agent.controller.set_action(action)
         prev = self._snapshot
         self._simulate()
@@ -278,8 +300,12 @@ class NavEnv(Observations, TopDownView, BaseEnv):
     def _take_snapshot(
         self, step: int, contact: Optional[bool], previous: Optional[StepSnapshot], placed: bool = False
     ) -> StepSnapshot:
-        """``contact=None``: after a step, from PhysX's contacts and the footprint's overlap."""
-        return self._sensing.take(step, self._target_xy, self._moving_xy, contact, previous, placed)
+        """``contact=None``: after a step, from PhysX's contacts and the footprint's overlap.
+        Also makes the step's ``observed_snapshot``."""
+        snapshot = self._sensing.take(step, self._target_xy, self._moving_xy, contact, previous, placed)
+        noise = self._noise
+        self._observed = snapshot if noise is None else noise.perceive(snapshot, contact is None, self.world.arena)
+        return snapshot
 
     @property
     def snapshot(self) -> StepSnapshot:
@@ -298,6 +324,8 @@ class NavEnv(Observations, TopDownView, BaseEnv):
         if isinstance(seed, (list, tuple, np.ndarray)):  # ManiSkill's batched form
             seed = int(seed[0])
         gym.Env.reset(self, seed=seed)
+        if self._noise is not None:
+            self._noise.seed(seed)  # its own generators, from the same seed
         options = options or {}
         reconfigure = options.get("reconfigure", False) or (
             self._reconfig_counter == 0 and self.reconfiguration_freq != 0

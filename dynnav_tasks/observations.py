@@ -3,8 +3,9 @@
 ``obs_mode`` selects the observation:
 
 =============  ===================================================================
-``state``      float32 vector: 16 laser readings (m) | robot x, y | target x, y |
-               x, y of each moving obstacle (see ``state_layout()``)
+``state``      float32 vector: the laser readings (m; 16 unless ``laser_rays`` says
+               otherwise) | robot x, y | target x, y | x, y of each moving obstacle
+               (see ``state_layout()``)
 ``rgb``        the front camera's frame, uint8 (size, size, 3)
 ``rgb+state``  ``{"rgb": frame, "state": vector}``
 =============  ===================================================================
@@ -26,6 +27,8 @@ import numpy as np
 import torch
 
 from .camera import FRONT_CAMERA
+from .noise import EpisodeNoise
+from .snapshot import StepSnapshot
 
 OBS_MODES = ("state", "rgb", "rgb+state")
 
@@ -33,7 +36,7 @@ OBS_MODES = ("state", "rgb", "rgb+state")
 class Observations:
     """Mixed into ``NavEnv``: its observation space, state layout and observations.
 
-    Uses the task's ``world``, ``camera_spec``, ``snapshot`` and laser ring (``_sensing.lasers``).
+    Uses the task's ``world``, ``camera_spec``, ``observed_snapshot`` and laser ring (``_sensing.lasers``).
     """
 
     state_obstacle_slots: Optional[int] = None
@@ -94,9 +97,23 @@ class Observations:
             return self.camera_image()
         return {"rgb": self.camera_image(), "state": self.state_vector()}
 
+    @property
+    def observed_snapshot(self) -> StepSnapshot:
+        """The snapshot as the agent perceives it (the state vector's source): ``snapshot``
+        itself unless the task has sensor or odometry noise (``noise.py``)."""
+        self.snapshot  # noqa: B018  (raises before the first reset)
+        return self._observed
+
+    @property
+    def episode_noise(self) -> Optional[EpisodeNoise]:
+        """The noise at work (this episode's speed factors, drift, executed action); None
+        when every noise option is off (``noise.py``)."""
+        return self._noise
+
     def state_vector(self) -> np.ndarray:
-        """lasers | robot xy | target xy | moving obstacles xy, float32."""
-        snapshot = self.snapshot
+        """lasers | robot xy | target xy | moving obstacles xy, float32, as the agent perceives
+        them (``observed_snapshot``: with the task's sensor and odometry noise, if any)."""
+        snapshot = self.observed_snapshot
         slots = self._obstacle_slots
         if slots == snapshot.moving_count:
             return snapshot.state_vector()

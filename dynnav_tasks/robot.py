@@ -186,7 +186,8 @@ DriveConfig.controller_cls = DiscreteDriveController
 
 @register_agent()
 class DiffBot(BaseAgent):
-    """A Pioneer-like differential-drive robot with a 16-laser ring and a front camera."""
+    """A Pioneer-like differential-drive robot with a laser ring (16 rays unless the task
+    says otherwise, ``lasers.py``) and a front camera."""
 
     uid = "dynnav_diffbot"
     urdf_path = str(ASSET_DIR / "diffbot.urdf")

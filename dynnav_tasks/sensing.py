@@ -3,7 +3,7 @@
 It gathers the inputs of the step's ``StepSnapshot`` (``snapshot.py``):
 
 * the robot's pose (x, y, yaw), read from its three planar joints;
-* the 16 laser readings (``lasers.LaserRing``);
+* the laser readings (``lasers.LaserRing``: the study's 16 rays or the task's ``LaserConfig``);
 * contact, the collision test of ``NavEnv``'s episode rules: a PhysX contact between the
   robot (chassis or wheels) and anything else that touches (separation at most
   ``collision_margin``) or that the solver pushed apart (non-zero impulse), or the robot's
@@ -24,7 +24,7 @@ from typing import Optional
 
 import numpy as np
 
-from .lasers import LaserRing
+from .lasers import LaserConfig, LaserRing
 from .maniskill_adapter import sapien_object
 from .robot import FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH, LASER_HEIGHT
 from .snapshot import StepSnapshot, footprint_overlaps, snapshot_of
@@ -45,7 +45,8 @@ class Sensing:
     """Reads the robot's pose, lasers and contacts in a PhysX CPU scene into snapshots.
 
     ``walls``: (centre xy, half size xy) of each wall; ``static_xy``: (n, 2) centres of the
-    static obstacles; ``obstacle_half``: half sizes of all obstacles, static ones first.
+    static obstacles; ``obstacle_half``: half sizes of all obstacles, static ones first;
+    ``lasers``: the laser ring's rays, field of view and range.
     ``set_obstacles`` replaces them (a task whose world changes between episodes).
     """
 
@@ -57,9 +58,10 @@ class Sensing:
         static_xy: np.ndarray = np.zeros((0, 2)),
         obstacle_half: np.ndarray = np.zeros((0, 2)),
         collision_margin: float = 0.005,
+        lasers: LaserConfig = LaserConfig(),
     ):
         self.px = px
-        self.lasers = LaserRing(px, FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH, LASER_HEIGHT)
+        self.lasers = LaserRing(px, FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH, LASER_HEIGHT, lasers)
         self.collision_margin = collision_margin
         self._art = sapien_object(robot)
         links = [sapien_object(link) for link in robot.links]

@@ -5,7 +5,9 @@ A task takes exactly one snapshot after every ``reset()`` and every ``step()`` (
 does the same from plain values. Nothing else computes these quantities. Success and
 failure (``NavEnv.evaluate``), the reward (``rewards.compute_reward(mode, previous, current,
 ...)``), the state vector, recordings and pictures all read the snapshot, which is public
-as ``env.unwrapped.snapshot`` and immutable: its arrays are read-only.
+as ``env.unwrapped.snapshot`` and immutable: its arrays are read-only. A task with sensor or
+odometry noise (``noise.py``) observes ``perceived_snapshot`` of it instead
+(``env.unwrapped.observed_snapshot``); everything else reads the true one.
 
 Geometry (metres, radians, world frame, z up):
 
@@ -14,7 +16,8 @@ field              meaning
 =================  ==========================================================================
 ``step``           control steps since the last reset (0 right after it)
 ``pose``           the robot's (x, y, yaw), yaw counter-clockwise from +x
-``lasers``         the 16 laser readings, float32 (see ``lasers.py``)
+``lasers``         the laser readings, float32 (16 unless the task's ``laser_rays`` says
+                   otherwise; see ``lasers.py``)
 ``target_xy``      centre of the episode's chosen target
 ``obstacle_xy``    (n, 2) centres of every obstacle box: static ones first, then moving ones
 ``obstacle_half``  (n, 2) half sizes of those boxes (walls are not obstacles)
@@ -206,3 +209,23 @@ def snapshot_of(
         path_length=path,
     )
     return snapshot
+
+
+def perceived_snapshot(snapshot: StepSnapshot, lasers: np.ndarray, xy) -> StepSnapshot:
+    """``snapshot`` as a robot with noisy sensors perceives it (``noise.py``): ``lasers`` (a
+    read-only float32 array) for its readings and ``xy`` for its position, its heading kept.
+    The target's distance ``d1`` and ``bearing`` are recomputed from ``xy``; ``d2``,
+    ``contact`` and ``path_length`` stay the true ones (the outcome's and the reward's, which
+    no observation reads)."""
+    x, y = (float(v) for v in xy)
+    yaw = snapshot.pose[2]
+    tx, ty = snapshot.target_xy.tolist()
+    perceived = object.__new__(StepSnapshot)
+    perceived.__dict__.update(
+        snapshot.__dict__,
+        pose=(x, y, yaw),
+        lasers=lasers,
+        d1=math.hypot(tx - x, ty - y),
+        bearing=wrap_angle(math.atan2(ty - y, tx - x) - yaw),
+    )
+    return perceived

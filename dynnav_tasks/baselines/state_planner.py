@@ -208,9 +208,10 @@ class StatePlanner:
     def act(self, state: np.ndarray, yaw: float) -> int:
         """The first action of the best plan from ``state`` (the task's state vector) and the
         robot's heading ``yaw`` (rad)."""
-        x0, y0 = float(state[16]), float(state[17])
-        tx, ty = float(state[18]), float(state[19])
-        moving = np.asarray(state[20:], float).reshape(-1, 2)
+        n = len(state) - 4 - 2 * self.world.moving_obstacle_count  # laser readings: 16 unless laser_rays says
+        x0, y0 = float(state[n]), float(state[n + 1])
+        tx, ty = float(state[n + 2]), float(state[n + 3])
+        moving = np.asarray(state[n + 4:], float).reshape(-1, 2)
         boxes = self.forecast.boxes(moving, self.horizon) if len(moving) else np.zeros((self.horizon + 1, 0, 2, 2))
         boxes = [step.reshape(-1, 4).tolist() for step in boxes]  # per step: [lo_x, lo_y, hi_x, hi_y] per box
 

@@ -56,7 +56,7 @@ class ProceduralEnv(NavEnv):
       this task's kind (0.5 m blocks and boxes, one target, arena sides up to 20 m)
     * the current world and its seed: ``env.unwrapped.world``, ``env.unwrapped.world_seed``
       (None for a world passed in ``options``)
-    * state (``obs_mode="state"``, 19 + 5 k values; ``egocentric.py``): 16 lasers | target
+    * state (``obs_mode="state"``, 19 + 5 k values with 16 rays; ``egocentric.py``): the lasers | target
       distance, sin and cos of its bearing | for each of the ``obstacle_k`` (default 4)
       nearest moving obstacles, its x, y and velocity relative to the robot in the robot's
       frame and a 1 (present); missing ones padded with (30, 0, 0, 0, 0)
@@ -192,12 +192,13 @@ class ProceduralEnv(NavEnv):
 
     # ------------------------------------------------------------------ observation
     def _take_snapshot(self, step, contact, previous, placed=False) -> StepSnapshot:
-        self._before = previous if contact is None else None  # a simulated step: velocities from it
+        # a simulated step: velocities from the snapshot before it, as the agent perceived it
+        self._before = self.observed_snapshot if contact is None else None
         return super()._take_snapshot(step, contact, previous, placed)
 
     def state_vector(self) -> np.ndarray:
         """The egocentric state (``egocentric.py``), float32 of 19 + 5 ``obstacle_k`` values."""
-        return egocentric_state(self.snapshot, self._before, self.obstacle_k)
+        return egocentric_state(self.observed_snapshot, self._before, self.obstacle_k)
 
     def state_space(self) -> gym.spaces.Box:
         """Bounds of the egocentric state (``egocentric.egocentric_space``)."""
