@@ -36,7 +36,7 @@ def _clone(tmp_path: Path) -> Path:
     (tmp_path / "docs" / "results").mkdir(parents=True)
     for name in (RUNS, EPISODES):
         shutil.copy(ROOT / "results" / name, tmp_path / "results" / name)
-    for name in ("ceilings.json", "discussion.md"):
+    for name in ("ceilings.json", "procedural_ceilings.json", "discussion.md"):
         shutil.copy(ROOT / "docs" / "results" / name, tmp_path / "docs" / "results" / name)
     return tmp_path
 

@@ -168,19 +168,16 @@ def generalization_section(rows: list[dict], episodes: list[dict], cells: dict[s
         return []
     lines = ["", "## Generalization", ""]
     if procedural:
-        lines += ["Navigators trained on a difficulty's train worlds of `DynNav-Procedural-v1` (a new world every "
-                  "episode, `configs/procedural/`), each tested on 100 episodes of the held-out test worlds, of "
-                  "train worlds and of the out-of-distribution worlds (larger arenas, more and faster obstacles, "
-                  "unseen layouts; `docs/procedural.md`). Rates are means over seeds; the planner sees the full "
-                  "state (`dynnav_tasks.baselines.state_planner`, 200 episodes), the floor turns to the target and "
-                  "drives (`go_to_target`, 200 episodes).", "", *procedural]
+        lines += ["Trained on a difficulty's train worlds of `DynNav-Procedural-v1` (`configs/procedural/`), tested "
+                  "on 100 episodes of its held-out test, train and ood worlds (`docs/procedural.md`); means over "
+                  "seeds, beside the full-state planner and the go-to-target floor (200 episodes each).",
+                  "", *procedural]
         procedural_experiments = {r["experiment"] for r in rows if r["task"] == PROCEDURAL_TASK}
         if figure is not None and draw_generalization(episodes, figure, procedural_experiments):
             lines += ["", f"![Test success against obstacle count and arena size]({figure_link})"]
     if transfer:
-        lines += ["", "A fixed world's navigator tested in a changed world (the task options after *tested on*; "
-                  "5.3's state keeps its two obstacle places, which hold the two boxes nearest to the robot): "
-                  "the same seeds at home and there.", "", *transfer]
+        lines += ["", "A fixed world's navigator in a changed world (5.3's state keeps two obstacle places, the two "
+                  "boxes nearest to the robot): the same seeds at home and there.", "", *transfer]
     return lines
 
 
