@@ -48,8 +48,9 @@ Noise (``noise.py``) in this mode
     stays the same; a scale of 1.5 makes the top speed 1.8 m/s).
 
 What it can reach: straight ahead, 0.84 m in the first 6 steps (1.2 s) from standstill, then
-0.24 m per step (the discrete forward step is 0.15 m); a full turn in place in 1.2 + 1.2 s
-(the discrete drive needs 16 steps, 3.2 s); arcs of any radius down to turning in place. The
+0.24 m per step (the discrete forward step is 0.15 m); a full turn in place in 9 steps (1.8 s)
+from standstill (the discrete drive: 16 steps); arcs of any radius down to turning in place;
+backwards as fast as forwards. The
 full-state planner and the camera pilot (``baselines/``) plan in the discrete actions and
 drive ``"discrete_drive"`` only.
 """
@@ -240,6 +241,15 @@ class VelocityDriveController(DiscreteDriveController):
 
 
 VelocityDriveConfig.controller_cls = VelocityDriveController
+
+
+def require_discrete_drive(env, who: str) -> None:
+    """Raise ValueError unless the task ``env`` (``env.unwrapped``) drives the discrete
+    actions: ``who`` (a planner, a pilot) chooses among them."""
+    mode = env.control_mode
+    if mode != DISCRETE_DRIVE:
+        raise ValueError(f"{who} chooses among the three discrete actions: make the task with "
+                         f"control_mode={DISCRETE_DRIVE!r} (the default), not {mode!r}")
 
 
 def controller_configs(discrete) -> dict:
