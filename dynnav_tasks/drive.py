@@ -185,18 +185,22 @@ def parse_velocity_action(action, high: tuple[float, float]) -> tuple[float, flo
     Accepted: two real numbers in any form (a list or tuple, a numpy array or torch tensor of
     shape (2,), (1, 2) or the like); NaN or infinity, booleans, strings or another count of
     values are a ValueError."""
-    if hasattr(action, "detach"):  # a torch tensor
-        action = action.detach().cpu().numpy()
-    try:
-        array = np.asarray(action)
-    except (TypeError, ValueError):
-        array = None
-    if array is None or array.size != 2 or array.dtype.kind not in "iuf":
-        raise ValueError(
-            f"control_mode {VELOCITY_DRIVE!r} takes an action of two numbers, (linear m/s, angular rad/s) "
-            f"within +-({high[0]:.4g}, {high[1]:.4g}); got {action!r}"
-        )
-    v, w = array.reshape(-1).astype(np.float64).tolist()
+    if type(action) is np.ndarray and action.size == 2 and action.dtype.kind == "f":
+        array = action  # the common case, checked first: a float array from a policy
+    else:
+        if hasattr(action, "detach"):  # a torch tensor
+            action = action.detach().cpu().numpy()
+        try:
+            array = np.asarray(action)
+        except (TypeError, ValueError):
+            array = None
+        if array is None or array.size != 2 or array.dtype.kind not in "iuf":
+            raise ValueError(
+                f"control_mode {VELOCITY_DRIVE!r} takes an action of two numbers, (linear m/s, angular rad/s) "
+                f"within +-({high[0]:.4g}, {high[1]:.4g}); got {action!r}"
+            )
+    v, w = array.reshape(-1).tolist()
+    v, w = float(v), float(w)
     if not (math.isfinite(v) and math.isfinite(w)):
         raise ValueError(f"action must be finite, got {action!r}: NaN and infinite velocities are refused")
     return clip_to(v, w, high)
@@ -232,6 +236,30 @@ class VelocityDriveController(DiscreteDriveController):
         v0, w0 = self._twist
         v, w, dv, dw = v * self._scale, w * self._scale, self._dv, self._dw
         self._twist = (min(max(v, v0 - dv), v0 + dv), min(max(w, w0 - dw), w0 + dw))
+
+    def before_simulation_step(self):
+        """Turn the twist into world-frame joint velocities at the current heading (as the
+        discrete drive does); only the joint targets that changed are sent to PhysX (the
+        heading changes the x and y targets at every sub-step of an arc, w within a step never)."""
+        v, w = self._twist
+        old = self._commanded or (None, None, None)
+        qvel, (jx, jy, jw), (ix, iy, iw) = self._qvel, self._px_joints, self._dof_index
+        if v != 0.0:
+            yaw = self._px_art.get_qpos().item(self._yaw_index)
+            vx, vy = v * math.cos(yaw), v * math.sin(yaw)
+        else:
+            vx = vy = 0.0
+        if vx != old[0]:
+            jx.set_drive_velocity_target(vx)
+            qvel[ix] = vx
+        if vy != old[1]:
+            jy.set_drive_velocity_target(vy)
+            qvel[iy] = vy
+        if w != old[2]:
+            jw.set_drive_velocity_target(w)
+            qvel[iw] = w
+        self._commanded = (vx, vy, w)
+        self._px_art.set_qvel(qvel)
 
     @property
     def command(self) -> tuple[float, float]:
