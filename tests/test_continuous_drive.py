@@ -368,6 +368,17 @@ def test_check_env_passes_in_every_control_mode(task_id, mode):
     _checked(task_id, control_mode=mode)
 
 
+def test_make_vec_batches_velocity_actions():
+    envs = gym.make_vec("DynNav-MovingTarget-v1", num_envs=2, control_mode=VELOCITY_DRIVE)
+    try:
+        assert envs.single_action_space.shape == (2,) and envs.action_space.shape == (2, 2)
+        envs.reset(seed=0)
+        obs, reward, *_ = envs.step(np.float32([[1.2, 0.0], [0.0, -5.0]]))
+        assert obs.shape == (2, 20) and reward.shape == (2,)
+    finally:
+        envs.close()
+
+
 def test_rescale_action_gives_a_normalized_box(make_env):
     env = gym.wrappers.RescaleAction(make_env("DynNavTest-DriveOpen-v1", control_mode=VELOCITY_DRIVE), -1.0, 1.0)
     env.reset(seed=0)
