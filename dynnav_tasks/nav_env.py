@@ -32,6 +32,10 @@ Sensors and noise (``docs/sensors.md``)
     and action noise and per-episode speed randomization (``noise.NoiseConfig``, all off by
     default) are flat options such as ``laser_noise_std=0.02`` or one ``noise=`` dict.
 
+Control modes (``drive.py``)
+    ``control_mode="discrete_drive"`` (the default): the study's three actions;
+    ``"diff_drive_vel"``: ``Box(2)``, linear and angular velocity with a Pioneer 3-DX's limits.
+
 Step
     One control step is 0.2 s (``control_freq`` 5 Hz) simulated as 4 PhysX steps of 50 ms.
     Moving obstacles are kinematic bodies moved to interpolated targets at every PhysX step.
@@ -54,12 +58,13 @@ from mani_skill.utils.structs.types import SceneConfig, SimConfig
 
 from . import rewards as R
 from .camera import CameraSpec
+from .drive import CONTROL_MODES, DISCRETE_DRIVE, VelocityDriveConfig
 from .errors import check_choice
 from .lasers import LASER_RANGE, NUM_LASERS, LaserConfig
 from .motion import EpisodeMotion
 from .noise import EpisodeNoise, NoiseConfig
 from .observations import OBS_MODES, Observations
-from .robot import FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH, DiffBot, DriveConfig, parse_action
+from .robot import FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH, DiffBot, DriveConfig
 from .scene import HIDDEN_Z, BuiltWorld, add_lighting, build_world
 from .sensing import Sensing
 from .snapshot import StepSnapshot
@@ -92,6 +97,7 @@ class NavEnv(Observations, TopDownView, BaseEnv):
         obs_mode: Optional[str] = None,
         reward_mode: Optional[str] = None,
         robot_uids: str = DiffBot.uid,
+        control_mode: Optional[str] = None,
         reward_params: Optional[dict] = None,
         forward_step: float = DriveConfig.forward_step,
         turn_step: float = DriveConfig.turn_step,
@@ -122,13 +128,18 @@ class NavEnv(Observations, TopDownView, BaseEnv):
             forward_step=forward_step, turn_step=turn_step, turn_forward_step=turn_forward_step
         )
         self.drive_config.validate()
+        control_mode = check_choice(control_mode or CONTROL_MODES[0], CONTROL_MODES, "control_mode")
+        self.velocity_drive_config = VelocityDriveConfig.from_task_options(control_mode, kwargs)
+        """the limits of control_mode "diff_drive_vel" (``drive.py``; its flat options come out of kwargs)"""
+        self.controller_config = self.drive_config if control_mode == DISCRETE_DRIVE else self.velocity_drive_config
+        """the config of the robot's controller in this task's control mode (before any noise)"""
         self.camera_spec = CameraSpec(size=camera_size, render_size=camera_render_size)
         self.laser_config = LaserConfig.of(laser_rays, laser_fov_deg, laser_range)
         """the laser ring's rays, field of view and range (``lasers.py``)"""
         self.noise_config = NoiseConfig.from_task_options(noise, kwargs)  # takes its flat options out of kwargs
         """the noise and randomization options (``noise.py``; all off by default)"""
         enabled = self.noise_config.enabled
-        self._noise = EpisodeNoise(self.noise_config, self.drive_config, self.laser_config.max_range) if enabled else None
+        self._noise = EpisodeNoise(self.noise_config, self.controller_config, self.laser_config.max_range) if enabled else None
         self._snapshot: Optional[StepSnapshot] = None
         self._outcome_of: Optional[StepSnapshot] = None  # outcome() of this snapshot is cached
         super().__init__(
@@ -136,6 +147,7 @@ class NavEnv(Observations, TopDownView, BaseEnv):
             obs_mode=obs_mode,
             reward_mode=reward_mode,
             robot_uids=robot_uids,
+            control_mode=control_mode,
             num_envs=1,
             sim_backend="physx_cpu",
             render_backend=render_backend,
@@ -168,7 +180,7 @@ class NavEnv(Observations, TopDownView, BaseEnv):
 
     def _load_agent(self, options: dict):
         super()._load_agent(options, sapien.Pose())
-        self.agent.controller.configure(self.drive_config)
+        self.agent.controller.configure(self.controller_config)
 
     def _load_lighting(self, options: dict):
         add_lighting(self.scene)  # even: every surface shows its palette colour
@@ -248,7 +260,7 @@ class NavEnv(Observations, TopDownView, BaseEnv):
         if self._terminal():
             raise RuntimeError("the episode has ended (success or collision): call reset() before step()")
         if self._noise is not None:
-            action = self._noise.execute(parse_action(action))
+            action = self._noise.execute(self.agent.controller.parse_action(action))
         self.agent.controller.set_action(action)
         prev = self._snapshot
         self._simulate()

@@ -20,10 +20,14 @@ option                         default    what it does
                                           std (m, on x and y) per control step
 ``action_noise``               0          probability that the executed action is one drawn
                                           uniformly from all three (it may be the one asked
-                                          for: the asked one runs with probability 1 - 2p/3)
+                                          for: the asked one runs with probability 1 - 2p/3);
+                                          with ``control_mode="diff_drive_vel"``: the std of
+                                          Gaussian noise added to (v, w), as a fraction of
+                                          each limit, the result clipped to the action box
 ``robot_speed_scale_min/max``  1, 1       every episode, the robot's forward, turn and
                                           turn-forward steps are scaled by one factor drawn
-                                          uniformly from [min, max]
+                                          uniformly from [min, max]; with the velocity drive,
+                                          its executed velocities and accelerations
 ``obstacle_speed_scale_min/max`` 1, 1     every episode, every moving obstacle's speed (m
                                           per step) is scaled by one factor drawn uniformly
                                           from [min, max] (targets keep their speed)
@@ -55,6 +59,7 @@ from typing import Optional
 
 import numpy as np
 
+from .drive import VelocityDriveConfig
 from .robot import ACTION_NAMES, DriveConfig
 from .snapshot import StepSnapshot, perceived_snapshot
 
@@ -83,7 +88,8 @@ class NoiseConfig:
     odometry_drift_std: float = 0.0
     """std of the observed position's random walk, per control step (m)"""
     action_noise: float = 0.0
-    """probability that the executed action is drawn uniformly from all three"""
+    """probability that the executed action is drawn uniformly from all three (the velocity
+    drive: std of the Gaussian noise on (v, w), as a fraction of each limit)"""
     robot_speed_scale_min: float = 1.0
     """lowest factor of the robot's step lengths, drawn per episode"""
     robot_speed_scale_max: float = 1.0
@@ -144,8 +150,11 @@ class NoiseConfig:
         return self != NoiseConfig()
 
 
-def scaled_drive(drive: DriveConfig, factor: float) -> DriveConfig:
-    """``drive`` with its three step lengths multiplied by ``factor``."""
+def scaled_drive(drive: DriveConfig | VelocityDriveConfig, factor: float) -> DriveConfig | VelocityDriveConfig:
+    """``drive`` with its three step lengths (or, a ``VelocityDriveConfig``, its executed
+    velocities and accelerations) multiplied by ``factor``."""
+    if isinstance(drive, VelocityDriveConfig):
+        return drive.scaled(factor)
     return dataclasses.replace(
         drive,
         forward_step=drive.forward_step * factor,
@@ -155,25 +164,26 @@ def scaled_drive(drive: DriveConfig, factor: float) -> DriveConfig:
 
 
 class EpisodeNoise:
-    """A task's noise at work (``NavEnv.episode_noise``) for its nominal ``drive`` and its
-    lasers' range: its generators, this episode's factors and drift. Public and read-only:
+    """A task's noise at work (``NavEnv.episode_noise``) for its nominal ``drive`` (a
+    ``DriveConfig`` or a ``VelocityDriveConfig``: the task's control mode) and its lasers'
+    range: its generators, this episode's factors and drift. Public and read-only:
     ``config``, ``robot_speed_factor`` and
     ``obstacle_speed_factor`` (this episode's), ``drift`` (the observed position's offset
     now, m) and ``executed_action`` (the action the robot ran in the last step)."""
 
-    def __init__(self, config: NoiseConfig, drive: DriveConfig, laser_range: float):
+    def __init__(self, config: NoiseConfig, drive: DriveConfig | VelocityDriveConfig, laser_range: float):
         self.config = config
         self.drive = drive
         self.laser_range = float(laser_range)
         try:
             scaled_drive(drive, config.robot_speed_scale_max).validate()
         except ValueError as err:
-            raise ValueError(f"robot_speed_scale_max {config.robot_speed_scale_max!r} makes a step too long: {err}") from None
+            raise ValueError(f"robot_speed_scale_max {config.robot_speed_scale_max!r} makes the robot too fast: {err}") from None
         self._rngs: Optional[dict[str, np.random.Generator]] = None
         self.robot_speed_factor = 1.0
         self.obstacle_speed_factor = 1.0
         self.drift = (0.0, 0.0)
-        self.executed_action: Optional[int] = None
+        self.executed_action: Optional[int | tuple[float, float]] = None
 
     def seed(self, seed: Optional[int]) -> None:
         """Seed the generators from a reset's seed; ``None`` continues them (the first time:
@@ -188,7 +198,8 @@ class EpisodeNoise:
 
     def start_episode(self, controller, movers) -> None:
         """Draw the episode's speed factors and apply them: the robot's ``controller`` (a
-        ``DiscreteDriveController``) drives ``drive_config()``, each obstacle ``Mover`` of
+        ``DiscreteDriveController`` or ``VelocityDriveController``) drives ``drive_config()``,
+        each obstacle ``Mover`` of
         ``movers`` (just reset) scales its speed; the drift starts at 0."""
         if self._rngs is None:
             self.seed(None)
@@ -201,16 +212,21 @@ class EpisodeNoise:
         for mover in movers:
             mover.scale_speed(self.obstacle_speed_factor)
 
-    def drive_config(self) -> DriveConfig:
-        """The robot's drive this episode (its step lengths scaled by ``robot_speed_factor``)."""
+    def drive_config(self) -> DriveConfig | VelocityDriveConfig:
+        """The robot's drive this episode (scaled by ``robot_speed_factor``)."""
         return scaled_drive(self.drive, self.robot_speed_factor)
 
-    def execute(self, action: int) -> int:
-        """The action the robot runs when the agent asks for ``action`` (an index)."""
+    def execute(self, action: int | tuple[float, float]) -> int | tuple[float, float]:
+        """The action the robot runs when the agent asks for ``action``: an index, or the
+        velocity drive's ``(v, w)`` (already clipped to the box)."""
         p = self.config.action_noise
         if p > 0.0:
             rng = self._rngs["action"]
-            if rng.random() < p:
+            if isinstance(action, tuple):
+                d = self.drive
+                dv, dw = rng.normal(0.0, p, 2).tolist()
+                action = d.clip(action[0] + dv * d.max_linear_speed, action[1] + dw * d.max_angular_speed)
+            elif rng.random() < p:
                 action = int(rng.integers(len(ACTION_NAMES)))
         self.executed_action = action
         return action

@@ -17,6 +17,9 @@ index  name      motion during one control step (defaults, see ``DriveConfig``)
 
 The per-step distances are converted to velocities with the control frequency, so changing
 ``control_freq`` does not change how far an action moves the robot.
+
+This is the default control mode, ``"discrete_drive"``; ``control_mode="diff_drive_vel"``
+drives the robot by linear and angular velocity instead (``drive.py``).
 """
 
 from __future__ import annotations
@@ -156,6 +159,10 @@ class DiscreteDriveController(BaseController):
         self._twist = (0.0, 0.0)
         self._commanded = None
 
+    def parse_action(self, action) -> int:
+        """The action index of ``action`` (module function ``parse_action``)."""
+        return parse_action(action)
+
     def set_action(self, action) -> None:
         self._twist = self._twists[parse_action(action)]
 
@@ -197,7 +204,9 @@ class DiffBot(BaseAgent):
 
     @property
     def _controller_configs(self):
-        return dict(discrete_drive=self.drive_config)
+        from .drive import controller_configs  # drive.py builds on this module
+
+        return controller_configs(self.drive_config)
 
     def pose2d(self) -> np.ndarray:
         """(x, y, yaw) of the chassis in the world, as numpy."""

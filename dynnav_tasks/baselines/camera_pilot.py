@@ -31,6 +31,7 @@ import numpy as np
 import tyro
 
 from dynnav_tasks.camera import CameraSpec
+from dynnav_tasks.drive import require_discrete_drive
 from dynnav_tasks.outcomes import outcome_of
 from dynnav_tasks.robot import CAMERA_OFFSET
 from dynnav_tasks.world import MOVING_OBSTACLE_COLOR, STATIC_OBSTACLE_COLOR
@@ -230,13 +231,16 @@ class PilotResult:
 def run_pilot(task_id: str, seeds, pilot: Optional[CameraPilot] = None, env=None, progress: bool = False) -> PilotResult:
     """Drive ``pilot`` (default ``CameraPilot()``) for one episode per seed on ``task_id``.
 
-    ``env``: an already made ``NumpyWrapper`` of the task with ``obs_mode="rgb"`` to reuse.
+    ``env``: an already made ``NumpyWrapper`` of the task with ``obs_mode="rgb"`` to reuse (in
+    the default control mode, the discrete drive: the pilot chooses among its three actions).
     """
     from dynnav_tasks import NumpyWrapper, make
 
     own = env is None
     if own:
         env = NumpyWrapper(make(task_id, obs_mode="rgb"))
+    if not own:
+        require_discrete_drive(env.unwrapped, "the camera pilot")
     pilot = pilot or CameraPilot(camera=env.unwrapped.camera_spec)
     seeds = list(seeds)
     outcomes, steps, seen = [], [], []

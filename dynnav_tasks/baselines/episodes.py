@@ -2,7 +2,8 @@
 
 A controller here is any object with ``start(env)`` (called after every reset with the task,
 ``env.unwrapped``) and ``act(env) -> int`` (the next action; it may read the task's public
-state: ``snapshot``, ``world``, ``obstacle_motions``). ``run_episodes`` plays one episode
+state: ``snapshot``, ``world``, ``obstacle_motions``): the discrete drive's actions, so the
+task must run ``control_mode="discrete_drive"`` (the default). ``run_episodes`` plays one episode
 per seed and returns an ``EpisodeResults``.
 
 SPL (success weighted by path length, Anderson et al. 2018) is the mean over episodes of
@@ -22,6 +23,7 @@ from dataclasses import dataclass, field
 from typing import Optional, Protocol
 
 from dynnav_tasks.baselines.way_grid import WayGrid
+from dynnav_tasks.drive import require_discrete_drive
 from dynnav_tasks.outcomes import outcome_of
 from dynnav_tasks.robot import FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH
 
@@ -110,6 +112,11 @@ def run_episodes(label: str, task_id: str, seeds, controller: Controller, progre
 
     env = NumpyWrapper(make(task_id, obs_mode="state", **task_kwargs))
     base = env.unwrapped
+    try:
+        require_discrete_drive(base, f"{label}'s controller")
+    except ValueError:
+        env.close()
+        raise
     seeds = [int(s) for s in seeds]
     if progress:
         from tqdm import tqdm

@@ -1,6 +1,8 @@
 """Roll out a random policy on a dynnav task and print each episode's outcome.
 
     python -m dynnav_tasks.baselines.random_policy --task DynNav-MovingObstacles-v1 --episodes 5 --seed 0
+
+With ``--control-mode diff_drive_vel`` the actions are (v, w) drawn uniformly from the box.
 """
 
 from __future__ import annotations
@@ -8,6 +10,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 
+import gymnasium as gym
 import numpy as np
 import tyro
 
@@ -22,6 +25,8 @@ class Args:
     """seed of the first episode; episode i uses seed + i"""
     reward_mode: str = "distance_orientation_always"
     """one of dynnav_tasks.rewards.SUPPORTED_REWARD_MODES"""
+    control_mode: str = "discrete_drive"
+    """the robot's drive: "discrete_drive" (three actions) or "diff_drive_vel" (velocities)"""
 
 
 def main(args: Args) -> None:
@@ -29,18 +34,27 @@ def main(args: Args) -> None:
     import dynnav_tasks
 
     try:
-        env = dynnav_tasks.NumpyWrapper(dynnav_tasks.make(args.task, reward_mode=args.reward_mode))
+        env = dynnav_tasks.NumpyWrapper(
+            dynnav_tasks.make(args.task, reward_mode=args.reward_mode, control_mode=args.control_mode))
     except ValueError as err:
         raise SystemExit(f"error: {err}")
     rng = np.random.default_rng(args.seed)
-    print(f"{args.task}: random policy, {args.episodes} episodes, reward_mode={args.reward_mode}")
+    space = env.action_space
+    if isinstance(space, gym.spaces.Discrete):
+        def draw():
+            return int(rng.integers(space.n))
+    else:
+        def draw():
+            return rng.uniform(space.low, space.high).astype(np.float32)
+    print(f"{args.task}: random policy, {args.episodes} episodes, reward_mode={args.reward_mode}, "
+          f"control_mode={args.control_mode}")
     print(f"{'episode':>7} {'seed':>6} {'outcome':>9} {'steps':>5} {'return':>8} {'path m':>7} {'to target m':>11}")
     counts, steps_total, t0 = {}, 0, time.perf_counter()
     for ep in range(args.episodes):
         env.reset(seed=args.seed + ep)
         ret, steps, done = 0.0, 0, False
         while not done:
-            _, reward, terminated, truncated, info = env.step(int(rng.integers(env.action_space.n)))
+            _, reward, terminated, truncated, info = env.step(draw())
             ret += float(reward)
             steps += 1
             done = bool(terminated or truncated)
