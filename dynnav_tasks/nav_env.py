@@ -64,7 +64,8 @@ from .lasers import LASER_RANGE, NUM_LASERS, LaserConfig
 from .motion import EpisodeMotion
 from .noise import EpisodeNoise, NoiseConfig
 from .observations import OBS_MODES, Observations
-from .robot import FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH, DiffBot, DriveConfig
+from .diffbot import DiffBot
+from .robot import FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH, DriveConfig
 from .scene import HIDDEN_Z, BuiltWorld, add_lighting, build_world
 from .sensing import Sensing
 from .snapshot import StepSnapshot

@@ -1,8 +1,9 @@
 """The dynnav wheeled robot ("diffbot") and its discrete differential-drive controller.
 
-The robot is a ManiSkill agent loaded from ``assets/diffbot/diffbot.urdf``: a Pioneer-like
-chassis (footprint 0.45 m x 0.38 m) whose base moves in the plane through three virtual
-joints (world x, world y, yaw), driven by joint velocity targets as ManiSkill's Fetch base is.
+The robot is a ManiSkill agent (``diffbot.DiffBot``) loaded from ``assets/diffbot/diffbot.urdf``:
+a Pioneer-like chassis (footprint 0.45 m x 0.38 m) whose base moves in the plane through three
+virtual joints (world x, world y, yaw), driven by joint velocity targets as ManiSkill's Fetch
+base is. This module holds its geometry, the discrete drive's step lengths and controller.
 
 Actions are ``Discrete(3)``:
 
@@ -31,9 +32,7 @@ from pathlib import Path
 
 import numpy as np
 from gymnasium import spaces
-from mani_skill.agents.base_agent import BaseAgent
 from mani_skill.agents.controllers.base_controller import BaseController, ControllerConfig
-from mani_skill.agents.registration import register_agent
 
 from .maniskill_adapter import sapien_object
 
@@ -189,31 +188,3 @@ class DiscreteDriveController(BaseController):
 
 
 DriveConfig.controller_cls = DiscreteDriveController
-
-
-@register_agent()
-class DiffBot(BaseAgent):
-    """A Pioneer-like differential-drive robot with a laser ring (16 rays unless the task
-    says otherwise, ``lasers.py``) and a front camera."""
-
-    uid = "dynnav_diffbot"
-    urdf_path = str(ASSET_DIR / "diffbot.urdf")
-    fix_root_link = True
-    disable_self_collisions = True
-    drive_config: DriveConfig = DriveConfig()
-
-    @property
-    def _controller_configs(self):
-        from .drive import controller_configs  # drive.py builds on this module
-
-        return controller_configs(self.drive_config)
-
-    def pose2d(self) -> np.ndarray:
-        """(x, y, yaw) of the chassis in the world, as numpy."""
-        return np.asarray(sapien_object(self.robot).get_qpos()[:3], dtype=np.float64)
-
-    def set_pose2d(self, x: float, y: float, yaw: float) -> None:
-        """Place the robot at (x, y) facing ``yaw`` (radians), at rest."""
-        art = sapien_object(self.robot)
-        art.set_qpos(np.array([x, y, yaw], dtype=np.float32))
-        art.set_qvel(np.zeros(3, dtype=np.float32))
