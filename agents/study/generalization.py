@@ -34,6 +34,7 @@ ARENA_BINS = (6.0, 8.0, 10.0, 12.0, 14.0, 17.0, 20.01)
 MIN_EPISODES = 20
 """test episodes a bin needs to be drawn"""
 SPLIT_ORDER = {"train": 0, "test": 1, "ood": 2}
+DIFFICULTY_ORDER = {"easy": 0, "medium": 1, "hard": 2}
 
 
 def _mean(rows: list[dict], key: str) -> float | None:
@@ -53,8 +54,11 @@ def _grouped(rows: list[dict]) -> dict[tuple[str, str], list[dict]]:
 
 
 def _test_order(key: tuple[str, str]):
+    """Easy before medium before hard (by the tested difficulty), then train, test, ood."""
     options = parse_task_options(key[1])
-    return key[0], str(options.get("difficulty", "")), SPLIT_ORDER.get(str(options.get("split")), 9), key[1]
+    difficulty = str(options.get("difficulty", ""))
+    return (DIFFICULTY_ORDER.get(difficulty, 9), difficulty, key[0], SPLIT_ORDER.get(str(options.get("split")), 9),
+            key[1])
 
 
 def procedural_table(rows: list[dict], cells: dict[str, dict]) -> list[str]:
@@ -110,6 +114,11 @@ def _binned(episodes: list[dict], key: str, bins) -> tuple[list[float], list[flo
     return x, y, n
 
 
+def _difficulty_rank(episodes: list[dict]) -> int:
+    """Where an experiment's tests stand in easy, medium, hard (its easiest tested difficulty)."""
+    return min(DIFFICULTY_ORDER.get(str(parse_task_options(e["tested_on"]).get("difficulty")), 9) for e in episodes)
+
+
 def _split(row: dict) -> str:
     return str(parse_task_options(row["tested_on"]).get("split", ""))
 
@@ -134,7 +143,7 @@ def draw_generalization(episodes: list[dict], path: Path, experiments: set[str])
               ("arena_side", ARENA_BINS, "arena's longer side (m)"))
     colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     for (key, bins, label), ax in zip(panels, axes):
-        for i, experiment in enumerate(sorted(by_experiment)):
+        for i, experiment in enumerate(sorted(by_experiment, key=lambda e: (_difficulty_rank(by_experiment[e]), e))):
             episodes_of = by_experiment[experiment]
             ood = [_split(e) == "ood" for e in episodes_of]
             for out, style, where in ((False, "-", "train and test worlds"), (True, "--", "ood worlds")):
