@@ -47,7 +47,7 @@ def test_results_md_is_made_byte_for_byte_from_the_committed_table(tmp_path, mon
     main([])  # the command RESULTS.md names: python -m agents.study.report
     made = (clone / "RESULTS.md").read_bytes()
     assert made == (ROOT / "RESULTS.md").read_bytes()
-    assert len(made) <= 20_000
+    assert len(made) <= 22_000  # the study's tables and the generalization section, no more
     text = made.decode()
     assert "[the discussion](docs/results/discussion.md)" in text and "## Learning curves" in text
     for stem, _, _ in FIGURES:  # every figure it shows is drawn, and is the one committed
