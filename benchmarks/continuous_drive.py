@@ -21,7 +21,7 @@ import time
 
 import numpy as np
 
-from machine import describe, pin_one_core
+from machine import describe, pin_one_core, timed_steps
 
 CHUNK = 250
 """steps of one env measured at a time, in turns with the other"""
@@ -42,14 +42,7 @@ class Stepper:
         self.times: list[float] = []  # seconds per step, one figure per chunk
 
     def run(self, n: int) -> None:
-        env, clock, spent = self.env, time.perf_counter, 0.0
-        for a in self.draw(n):
-            t0 = clock()
-            _, _, terminated, truncated, _ = env.step(a)
-            spent += clock() - t0
-            if terminated or truncated:
-                env.reset()
-        self.times.append(spent / n)
+        self.times.append(timed_steps(self.env, self.draw(n), self.env.reset) / n)
 
 
 def main() -> None:

@@ -27,7 +27,7 @@ import time
 
 import numpy as np
 
-from machine import describe, pin_one_core
+from machine import describe, pin_one_core, timed_steps
 
 CHUNK = 250
 """steps of one env measured at a time, in turns with the others"""
@@ -50,14 +50,7 @@ class Stepper:
         self.times: list[float] = []  # seconds per step, one figure per chunk
 
     def run(self, n: int) -> None:
-        env, clock, spent = self.env, time.perf_counter, 0.0
-        for _ in range(n):
-            a = next(self.actions)
-            t0 = clock()
-            _, _, terminated, truncated, _ = env.step(a)
-            spent += clock() - t0
-            if terminated or truncated:
-                env.reset()
+        spent = timed_steps(self.env, (next(self.actions) for _ in range(n)), self.env.reset)
         self.times.append(spent / n)
 
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import platform
+import time
 
 
 def pin_one_core() -> str:
@@ -29,3 +30,16 @@ def cpu_name() -> str:
 def describe(pinned: str) -> str:
     """One line: CPU, cores, pinning, Python."""
     return f"machine: {cpu_name()}, {os.cpu_count()} cores ({pinned}), Python {platform.python_version()}"
+
+
+def timed_steps(env, actions, on_end) -> float:
+    """Seconds spent inside ``env.step`` over ``actions`` (resets excluded): ``on_end()`` is
+    called, untimed, whenever an episode ends."""
+    clock, spent = time.perf_counter, 0.0
+    for a in actions:
+        t0 = clock()
+        _, _, terminated, truncated, _ = env.step(a)
+        spent += clock() - t0
+        if terminated or truncated:
+            on_end()
+    return spent

@@ -29,7 +29,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from machine import describe, pin_one_core
+from machine import describe, pin_one_core, timed_steps
 
 CHUNK = 250
 """steps of one env measured at a time, in turns with the others"""
@@ -47,14 +47,8 @@ class Stepper:
         self.step_time, self.steps = 0.0, 0
 
     def run(self, n: int) -> None:
-        env, clock, spent = self.env, time.perf_counter, 0.0
-        for _ in range(n):
-            a = next(self.actions)
-            t0 = clock()
-            _, _, terminated, truncated, _ = env.step(a)
-            spent += clock() - t0
-            if terminated or truncated:
-                env.reset(**self.next_reset())
+        env = self.env
+        spent = timed_steps(env, (next(self.actions) for _ in range(n)), lambda: env.reset(**self.next_reset()))
         self.step_time += spent
         self.steps += n
 

@@ -9,9 +9,13 @@ import pytest
 from mani_skill.utils.registration import register_env
 
 from dynnav_tasks.drive import MAX_LINEAR_SPEED, PIONEER_LINEAR_SPEED, VELOCITY_DRIVE
-from dynnav_tasks.motion import BackAndForth, Static
+from dynnav_tasks.motion import Static
 from dynnav_tasks.nav_env import NavEnv
 from dynnav_tasks.world import Arena, Obstacles, StartArea, World
+from test_strict_inputs import HeadOnEnv  # noqa: F401 (registers HEAD_ON)
+
+HEAD_ON = "DynNavTest-HeadOn-v1"
+"""a corridor along x with one box sliding back and forth at the fastest obstacle speed"""
 
 ROBOT_HALF = (0.225, 0.19)  # the footprint's half length and half width
 DT = 0.2  # s, one control step
@@ -28,18 +32,6 @@ class ThinWallEnv(NavEnv):
         obstacles=(Obstacles(half_size=(WALL_HALF, 1.95), motion=Static((WALL_X, 0.0))),),
         arena=Arena(x_range=(-2.0, 12.0), y_range=(-2.0, 2.0)),
         start=StartArea(x_range=(-1.5, -1.5), y_range=(0.0, 0.0)),
-    )
-
-
-@register_env("DynNavTest-DriveHeadOn-v1", max_episode_steps=200)
-class HeadOnEnv(NavEnv):
-    """A corridor along x with one box sliding back and forth at the fastest obstacle speed."""
-
-    world = World(
-        targets=(Static((-1.5, 1.5)),),
-        obstacles=(Obstacles(half_size=(0.25, 0.25), motion=BackAndForth(center=(2.5, 0.0), direction=(1, 0), amplitude=4.0, speed=0.5)),),
-        arena=Arena(x_range=(-2.0, 7.0), y_range=(-2.0, 2.0)),
-        start=StartArea(x_range=(-1.5, -1.0), y_range=(-1.5, -1.0)),
     )
 
 
@@ -82,7 +74,7 @@ def test_top_speed_into_the_fastest_box_head_on_is_never_missed(make_env, top_sp
     """The robot at top speed (reached in the first step) against a box coming at 0.5 m per
     step, over gaps covering a whole step of their closing: the collision comes in the first
     step after which the two overlap (or earlier), and the robot never passes the box."""
-    env = make_env("DynNavTest-DriveHeadOn-v1", control_mode=VELOCITY_DRIVE, reward_mode="sparse",
+    env = make_env(HEAD_ON, control_mode=VELOCITY_DRIVE, reward_mode="sparse",
                    max_linear_speed=top_speed, max_linear_accel=1000.0)
     base = env.unwrapped
     closing = top_speed * DT + 0.5

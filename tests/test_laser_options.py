@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from dynnav_tasks.lasers import LaserConfig
+from test_lasers import _ray_box  # entry distance of a ray into a box, by hand
 
 R2 = math.sqrt(2)
 FAN = dict(laser_rays=7, laser_fov_deg=270, laser_range=8.0)
@@ -44,20 +45,6 @@ def test_a_shorter_range_caps_the_same_rays(make_env):
     obs = env.unwrapped.place_robot(-1.0, -1.6, 0.0)
     np.testing.assert_allclose(obs[:7], [0.4 * R2, 0.4, 0.4 * R2, 2.0, 2.0, 2.0, R2], atol=1e-3)
     assert env.observation_space.high[:7].tolist() == [2.0] * 7
-
-
-def _ray_box(origin, direction, center, half):
-    """Entry distance of a ray into an axis-aligned rectangle (slab method), or inf."""
-    t0, t1 = -math.inf, math.inf
-    for k in range(2):
-        lo, hi = center[k] - half[k], center[k] + half[k]
-        if abs(direction[k]) < 1e-12:
-            if not lo <= origin[k] <= hi:
-                return math.inf
-            continue
-        a, b = (lo - origin[k]) / direction[k], (hi - origin[k]) / direction[k]
-        t0, t1 = max(t0, min(a, b)), min(t1, max(a, b))
-    return t0 if t1 >= t0 >= 0 else math.inf
 
 
 def test_360_rays_match_the_geometry(make_env):
