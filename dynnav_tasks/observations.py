@@ -4,8 +4,9 @@
 
 =============  ===================================================================
 ``state``      float32 vector: the laser readings (m; 16 unless ``laser_rays`` says
-               otherwise) | robot x, y | target x, y | x, y of each moving obstacle
-               (see ``state_layout()``)
+               otherwise) | robot x, y | target x, y | x, y of each moving obstacle;
+               with the continuous drive also the robot's heading (sin, cos) and
+               the velocity it drives (see ``state_layout()``)
 ``rgb``        the front camera's frame, uint8 (size, size, 3)
 ``rgb+state``  ``{"rgb": frame, "state": vector}``
 =============  ===================================================================
@@ -13,12 +14,20 @@
 The state vector is read from the step's ``StepSnapshot``; the frame is rendered when the
 observation is made. A task with more moving obstacles than its state vector has places for
 (``state_obstacle_slots``, e.g. world 5.3 with ``obstacle_count=4``) lists the nearest ones to the
-robot, in the world's order, so a navigator trained in the original world reads the same vector. A task may observe another state vector by overriding ``state_vector``,
-``state_space`` and ``state_layout`` (the procedural task's egocentric state, ``egocentric.py``).
+robot, in the world's order, so a navigator trained in the original world reads the same vector. A task may observe another state vector by overriding ``task_state_vector``,
+``task_state_space`` and ``task_state_layout`` (the procedural task's egocentric state, ``egocentric.py``).
+
+The continuous drive (``control_mode="diff_drive_vel"``, ``drive.py``) adds what a real robot's
+odometry reads and the three discrete actions make needless: the study's state gains
+``robot_heading`` (sin and cos of the yaw; the velocity drive steers relative to the heading)
+after the positions, and every state vector ends with ``robot_velocity``, the ``(v, w)`` the
+robot drives (m/s, rad/s; the acceleration limits make it part of the state: the same action
+moves the robot differently at rest and at full speed). The discrete drive's vectors are the study's.
 """
 
 from __future__ import annotations
 
+import math
 from functools import cached_property
 from typing import Optional
 
@@ -27,6 +36,7 @@ import numpy as np
 import torch
 
 from .camera import FRONT_CAMERA
+from .drive import VelocityDriveConfig
 from .noise import EpisodeNoise
 from .snapshot import StepSnapshot
 
@@ -63,19 +73,49 @@ class Observations:
         rgb = gym.spaces.Box(0, 255, (n, n, 3), dtype=np.uint8)
         return {"state": state, "rgb": rgb, "rgb+state": gym.spaces.Dict(rgb=rgb, state=state)}[self._obs_mode]
 
+    @property
+    def velocity_drive(self) -> bool:
+        """Whether the robot drives by velocity (``control_mode="diff_drive_vel"``)."""
+        return isinstance(self.controller_config, VelocityDriveConfig)
+
     def state_space(self) -> gym.spaces.Box:
-        """The state vector's space: lasers in [0, range], positions within the walls."""
-        (x0, x1), (y0, y1) = self.world.arena.x_range, self.world.arena.y_range
-        n_lasers, n_pos = len(self._sensing.lasers.angles), self._obstacle_slots + 2
-        low = np.array([0.0] * n_lasers + [x0, y0] * n_pos, dtype=np.float32)
-        high = np.array([self._sensing.lasers.max_range] * n_lasers + [x1, y1] * n_pos, dtype=np.float32)
-        return gym.spaces.Box(low, high, dtype=np.float32)
+        """The state vector's space: the task's (``task_state_space``), then with the continuous
+        drive the velocity, within the action box times the largest speed scale."""
+        space = self.task_state_space()
+        if not self.velocity_drive:
+            return space
+        scale = self.noise_config.robot_speed_scale_max
+        high = np.float32(self.controller_config.box_high()) * np.float32(scale)
+        return gym.spaces.Box(np.concatenate([space.low, -high]), np.concatenate([space.high, high]), dtype=np.float32)
 
     def state_layout(self) -> list[tuple[str, int]]:
         """Names and sizes of the parts of the state vector, in order."""
+        return self.task_state_layout() + ([("robot_velocity", 2)] if self.velocity_drive else [])
+
+    def state_vector(self) -> np.ndarray:
+        """The task's state vector (``task_state_vector``), then with the continuous drive the
+        ``(v, w)`` the robot drives."""
+        state = self.task_state_vector()
+        if not self.velocity_drive:
+            return state
+        return np.concatenate([state, np.float32(self.agent.controller.command)], dtype=np.float32)
+
+    def task_state_space(self) -> gym.spaces.Box:
+        """The study's state vector's space: lasers in [0, range], positions within the walls,
+        the heading's sin and cos in [-1, 1] with the continuous drive."""
+        (x0, x1), (y0, y1) = self.world.arena.x_range, self.world.arena.y_range
+        n_lasers, n_pos = len(self._sensing.lasers.angles), self._obstacle_slots + 2
+        n_heading = 2 if self.velocity_drive else 0
+        low = np.array([0.0] * n_lasers + [x0, y0] * n_pos + [-1.0] * n_heading, dtype=np.float32)
+        high = np.array([self._sensing.lasers.max_range] * n_lasers + [x1, y1] * n_pos + [1.0] * n_heading,
+                        dtype=np.float32)
+        return gym.spaces.Box(low, high, dtype=np.float32)
+
+    def task_state_layout(self) -> list[tuple[str, int]]:
+        """Names and sizes of the parts of the study's state vector, in order."""
         layout = [("lasers", len(self._sensing.lasers.angles)), ("robot_xy", 2), ("target_xy", 2)]
         layout += [(f"obstacle{i}_xy", 2) for i in range(self._obstacle_slots)]
-        return layout
+        return layout + ([("robot_heading", 2)] if self.velocity_drive else [])
 
     @property
     def numpy_observation(self):
@@ -110,17 +150,19 @@ class Observations:
         when every noise option is off (``noise.py``)."""
         return self._noise
 
-    def state_vector(self) -> np.ndarray:
-        """lasers | robot xy | target xy | moving obstacles xy, float32, as the agent perceives
-        them (``observed_snapshot``: with the task's sensor and odometry noise, if any)."""
+    def task_state_vector(self) -> np.ndarray:
+        """lasers | robot xy | target xy | moving obstacles xy (| heading sin, cos with the
+        continuous drive), float32, as the agent perceives them (``observed_snapshot``: with the
+        task's sensor and odometry noise, if any)."""
         snapshot = self.observed_snapshot
         slots = self._obstacle_slots
-        if slots == snapshot.moving_count:
+        heading = [np.float32([math.sin(snapshot.pose[2]), math.cos(snapshot.pose[2])])] if self.velocity_drive else []
+        if slots == snapshot.moving_count and not heading:
             return snapshot.state_vector()
         moving = snapshot.moving_obstacle_xy
         nearest = np.sort(np.argsort(np.linalg.norm(moving - snapshot.pose[:2], axis=1), kind="stable")[:slots])
-        return np.concatenate([snapshot.lasers, snapshot.pose[:2], snapshot.target_xy, moving[nearest].reshape(-1)],
-                              dtype=np.float32)
+        return np.concatenate([snapshot.lasers, snapshot.pose[:2], snapshot.target_xy, moving[nearest].reshape(-1),
+                               *heading], dtype=np.float32)
 
     def camera_image(self) -> np.ndarray:
         """What the front camera sees now: uint8 (size, size, 3)."""

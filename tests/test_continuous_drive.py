@@ -277,7 +277,7 @@ def test_make_vec_batches_velocity_actions():
         assert envs.single_action_space.shape == (2,) and envs.action_space.shape == (2, 2)
         envs.reset(seed=0)
         obs, reward, *_ = envs.step(np.float32([[1.2, 0.0], [0.0, -5.0]]))
-        assert obs.shape == (2, 20) and reward.shape == (2,)
+        assert obs.shape == (2, 24) and reward.shape == (2,)  # 20 + heading + velocity
     finally:
         envs.close()
 
@@ -312,3 +312,25 @@ def test_the_config_scales_and_clips():
     assert config.scaled(1.5).speed_scale == 1.5 and config.speed_scale == 1.0
     assert config.clip(9.0, -9.0) == (BOX_V, -BOX_W)
     assert config.clip(0.3, 0.2) == (0.3, 0.2)
+
+
+def test_the_continuous_state_ends_with_the_heading_and_the_driven_velocity(make_env):
+    """With the velocity drive the study's state gains sin, cos of the yaw and then the (v, w)
+    driven, the ramp of the acceleration limits: hand-computed from a start facing +x."""
+    discrete = make_env("DynNavTest-DriveOpen-v1")
+    env = make_env("DynNavTest-DriveOpen-v1", control_mode=VELOCITY_DRIVE)
+    base = [name for name, _ in discrete.unwrapped.state_layout()]
+    assert [name for name, _ in env.unwrapped.state_layout()] == base + ["robot_heading", "robot_velocity"]
+    obs, _ = env.reset(seed=0)
+    assert obs.shape == (discrete.observation_space.shape[0] + 4,)
+    np.testing.assert_array_equal(obs[-2:], [0.0, 0.0])  # at rest after a reset
+    env.unwrapped.place_robot(0.0, 0.0, 0.0)
+    k, v, w = 4, 0.5, 2.0
+    vs, ws = ramp(v, DV, k), ramp(w, DW, k)
+    for i in range(k):
+        obs, *_ = env.step(np.float32([v, w]))
+        yaw = sum(ws[: i + 1]) * DT
+        np.testing.assert_allclose(obs[-4:-2], [math.sin(yaw), math.cos(yaw)], atol=1e-4)
+        np.testing.assert_allclose(obs[-2:], [vs[i], ws[i]], atol=1e-6)
+        assert env.observation_space.contains(obs)
+    assert vs == pytest.approx([0.2, 0.4, 0.5, 0.5]) and ws[-1] == pytest.approx(2.0)

@@ -196,15 +196,15 @@ class ProceduralEnv(NavEnv):
         self._before = self.observed_snapshot if contact is None else None
         return super()._take_snapshot(step, contact, previous, placed)
 
-    def state_vector(self) -> np.ndarray:
+    def task_state_vector(self) -> np.ndarray:
         """The egocentric state (``egocentric.py``), float32 of 19 + 5 ``obstacle_k`` values."""
         return egocentric_state(self.observed_snapshot, self._before, self.obstacle_k)
 
-    def state_space(self) -> gym.spaces.Box:
+    def task_state_space(self) -> gym.spaces.Box:
         """Bounds of the egocentric state (``egocentric.egocentric_space``)."""
         return egocentric_space(len(self._sensing.lasers.angles), self._sensing.lasers.max_range, self.obstacle_k)
 
-    def state_layout(self) -> list[tuple[str, int]]:
+    def task_state_layout(self) -> list[tuple[str, int]]:
         """Names and sizes of the parts of the egocentric state, in order."""
         return egocentric_layout(len(self._sensing.lasers.angles), self.obstacle_k)
 
