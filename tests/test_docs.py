@@ -172,7 +172,7 @@ def test_layout_page_matches_the_tree():
         assert folder in top or any((ROOT / pkg / folder).is_dir() for pkg in ("dynnav_tasks", "agents")), \
             f"docs/layout.md draws {folder}/, which does not exist"
     packages = {p.parent.name for p in _modules()} - {"dynnav_tasks", "agents"}
-    for folder in sorted(packages | {"assets", "benchmarks", "configs", "docs", "results", "scripts", "tests"}):
+    for folder in sorted(packages | {"assets", "benchmarks", "configs", "docs", "examples", "results", "scripts", "tests"}):
         assert folder in drawn, f"docs/layout.md's tree leaves out {folder}/"
     for module in _modules():
         assert f"`{module.name}`" in layout, f"docs/layout.md does not say what {module.relative_to(ROOT)} holds"
