@@ -183,6 +183,12 @@ class RunConfig:
     its Q-values, the training curves, and (with --eval) every test episode"""
     rerun_every: int = 100
     """record every this many training episodes (the first included)"""
+    fast: bool = False
+    """train on two processes: this one steps the environment, a second one makes the updates from a
+    shared replay memory (same number of updates per step); faster, but not replayable bit for bit
+    (docs/fast-training.md). State-vector runs only"""
+    fast_sync_steps: int = 50
+    """fast mode: the acting network copies the learner's latest weights every this many steps"""
 
 
 @dataclass
@@ -244,7 +250,7 @@ def get(config: Config, name: str):
 # ---------------------------------------------------------------------------------------- validation
 POSITIVE = ["episodes", "checkpoint_every", "batch_size", "buffer_size", "train_frequency", "target_update_interval",
             "eval_episodes", "lr_decay_episodes", "rerun_every", "ae_dense", "ae_update_every", "ae_batch_size",
-            "ae_pictures_every", "state_frames"]
+            "ae_pictures_every", "state_frames", "fast_sync_steps"]
 NOT_NEGATIVE = ["learning_starts", "random_episodes", "epsilon_decay_episodes", "camera_frames", "ae_latent",
                 "ae_first_update", "ae_updates", "ae_iterations", "ae_batches", "pixel_shift"]
 
