@@ -111,7 +111,7 @@ def train_fast(config: Config) -> Path:
         losses_seen, first_step = learner.loss_totals(), global_step
 
         # --- the training loop: collect here, learn there
-        t_start = time.perf_counter()
+        t_start, cpu_start = time.perf_counter(), time.process_time()
         for episode in range(start_episode, config.episodes):
             epsilon = epsilon_at(config.schedule, episode)
             learner.learning_rate = learning_rate_at(config.schedule, episode)
@@ -157,6 +157,7 @@ def train_fast(config: Config) -> Path:
         if config.episodes > start_episode:
             seconds, steps = time.perf_counter() - t_start, global_step - first_step
             print(f"fast mode: {config.episodes - start_episode} episodes, {steps} steps in {seconds:.1f} s "
-                  f"({steps / seconds:.0f} steps/s; {learner.updates} updates; the collector waited "
-                  f"{learner.waited_s:.1f} s for the learner)")
+                  f"({steps / seconds:.0f} steps/s, {learner.updates} updates); CPU time: collector "
+                  f"{time.process_time() - cpu_start:.1f} s (waiting {learner.waited_s:.1f} s for the learner), "
+                  f"learner {learner.cpu_s:.1f} s")
     return run_dir

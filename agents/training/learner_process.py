@@ -19,6 +19,7 @@ lag) old, so a fast run does not replay bit for bit.
 from __future__ import annotations
 
 import contextlib
+import os
 import time
 
 import numpy as np
@@ -32,7 +33,7 @@ MAX_LAG_STEPS = 2000
 PUBLISH_EVERY = 16
 """the learner publishes its online network's weights for the collector every this many updates"""
 # slots of the shared control array (float64: exact for counts below 2**53)
-STEPS, UPDATES, LR, LOSS_SUM, LOSS_COUNT, VERSION, FAILED = range(7)
+STEPS, UPDATES, LR, LOSS_SUM, LOSS_COUNT, VERSION, FAILED, CPU_S = range(8)
 
 
 class SharedReplayMemory(ReplayMemory):
@@ -104,7 +105,7 @@ class LearnerProcess:
     def __init__(self, config, input_specs, n_actions: int, memory: SharedReplayMemory):
         self.config = config
         ctx = mp.get_context("spawn")
-        self.control = torch.zeros(7, dtype=torch.float64).share_memory_()
+        self.control = torch.zeros(8, dtype=torch.float64).share_memory_()
         self._control = self.control.numpy()
         self._control[LR] = config.schedule.learning_rate
         from agents.core.policy import build_q_network
@@ -187,6 +188,11 @@ class LearnerProcess:
         """Updates made so far."""
         return int(self._control[UPDATES])
 
+    @property
+    def cpu_s(self) -> float:
+        """CPU seconds the learner process has used since its start-up (updated with every weights publication)."""
+        return float(self._control[CPU_S])
+
     def loss_totals(self) -> tuple[float, int]:
         """Sum and count of every update's loss so far (the metrics take differences)."""
         return float(self._control[LOSS_SUM]), int(self._control[LOSS_COUNT])
@@ -234,7 +240,7 @@ def learn(config, input_specs, n_actions, memory: SharedReplayMemory, control: t
     from agents.training.threads import limit_threads
 
     limit_threads(1)
-    ctrl = control.numpy()
+    ctrl, collector = control.numpy(), os.getppid()
     try:
         d = config.dqn
         learner = DQNLearner(build_q_network(config, input_specs, n_actions), Batch(d.batch_size, input_specs),
@@ -243,11 +249,13 @@ def learn(config, input_specs, n_actions, memory: SharedReplayMemory, control: t
         rng = np.random.default_rng(np.random.SeedSequence([config.seed, 1]))
         params = list(learner.q.parameters())
         updates, loss_sum, loss_count = 0, 0.0, 0
+        cpu0 = time.process_time()  # start-up (imports, networks) not counted
 
         def publish():
             with lock, torch.no_grad():
                 torch._foreach_copy_(weights, [p.detach().cpu() for p in params])
                 ctrl[VERSION] += 1
+            ctrl[CPU_S] = time.process_time() - cpu0
 
         started = False
         while True:
@@ -264,9 +272,12 @@ def learn(config, input_specs, n_actions, memory: SharedReplayMemory, control: t
                     ctrl[UPDATES], started = updates, True
                     conn.send(("ok", None))
                 elif command == "state":
+                    ctrl[CPU_S] = time.process_time() - cpu0
                     conn.send(("ok", learner.state_dict()))
                 continue
             if not started or updates >= updates_due(config, int(ctrl[STEPS])):
+                if os.getppid() != collector:  # the collector was killed
+                    return
                 time.sleep(0.0002)
                 continue
             memory.sample_into(learner.batch, rng)
@@ -282,6 +293,8 @@ def learn(config, input_specs, n_actions, memory: SharedReplayMemory, control: t
             ctrl[LOSS_SUM], ctrl[LOSS_COUNT] = loss_sum, loss_count
             if updates % PUBLISH_EVERY == 0:
                 publish()
+                if os.getppid() != collector:
+                    return
             ctrl[UPDATES] = updates
     except EOFError:  # the collector is gone
         return
