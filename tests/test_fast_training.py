@@ -65,16 +65,17 @@ def test_shared_replay_memory_is_seen_by_another_process():
 
 
 def test_fast_mode_learns_the_demo(tmp_path):
-    """The fast demo, on a short budget, tested on 50 episodes: at least 90% successes."""
+    """The fast demo on three quarters of its budget (about 12 s of training on two idle cores), tested on
+    50 episodes: at least 90% successes."""
     config = load_yaml("configs/demo.yaml")
-    config = replace(config, episodes=300,
-                     schedule=replace(config.schedule, epsilon_decay_episodes=150, lr_decay_episodes=300),
-                     run=replace(config.run, runs_dir=str(tmp_path), progress=False, checkpoint_every=300),
+    config = replace(config, episodes=600,
+                     schedule=replace(config.schedule, epsilon_decay_episodes=300, lr_decay_episodes=600),
+                     run=replace(config.run, runs_dir=str(tmp_path), progress=False, checkpoint_every=600),
                      test=replace(config.test, eval_after_training=False)).validate()
     assert config.run.fast, "configs/demo.yaml trains in the fast mode"
     run_dir = train(config)
     rows = metrics(run_dir)
-    assert len(rows) == 300 and rows[-1]["loss"]
+    assert len(rows) == 600 and rows[-1]["loss"]
     summary = evaluate(run_dir, episodes=50, picture=False, verbose=False)
     assert summary["success_rate"] >= 0.9, summary
 

@@ -278,7 +278,7 @@ def learn(config, input_specs, n_actions, memory: SharedReplayMemory, control: t
             if not started or updates >= updates_due(config, int(ctrl[STEPS])):
                 if os.getppid() != collector:  # the collector was killed
                     return
-                time.sleep(0.0002)
+                time.sleep(0.0005)
                 continue
             memory.sample_into(learner.batch, rng)
             learner.learning_rate = ctrl[LR]
