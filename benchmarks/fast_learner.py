@@ -2,7 +2,7 @@
 and Stable-Baselines3's DQN, on the same task with matched settings, measured in the same run.
 
     python benchmarks/fast_learner.py [--config configs/demo.yaml] [--seed 1] [--episodes N]
-                                      [--skip-deterministic] [--camera]
+                                      [--eval-episodes N] [--skip-deterministic] [--camera]
 
 All three train the config's task (task options, reward) with its network (2 x 128 ReLU), gamma,
 batch size, replay memory, learning starts, train frequency, target copy interval, learning rate
@@ -117,6 +117,7 @@ def main() -> None:
     parser.add_argument("--config", default="configs/demo.yaml", help="the run's config (default: the demo)")
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--episodes", type=int, default=0, help="training episodes (default: the config's)")
+    parser.add_argument("--eval-episodes", type=int, default=0, help="test episodes (default: the config's)")
     parser.add_argument("--skip-deterministic", action="store_true", help="leave out the single-process loop")
     parser.add_argument("--camera", action="store_true", help="also the 5.5c 4-frame agents' steps/s")
     parser.add_argument("--camera-episodes", type=int, default=12, help="episodes per camera agent (default 12)")
@@ -133,7 +134,8 @@ def main() -> None:
     tmp = tempfile.mkdtemp(prefix="fast-learner-")
     config = replace(config, seed=args.seed, episodes=args.episodes or config.episodes,
                      run=replace(config.run, runs_dir=tmp, progress=False),
-                     test=replace(config.test, eval_after_training=False, eval_picture=False))
+                     test=replace(config.test, eval_after_training=False, eval_picture=False,
+                                  eval_episodes=args.eval_episodes or config.test.eval_episodes))
     d = config.dqn
     print(f"{config.task}, {args.config}: {config.episodes} episodes, {d.algorithm}, batch {d.batch_size}, "
           f"train frequency {d.train_frequency}, target copy every {d.target_update_interval} steps, "

@@ -65,14 +65,12 @@ def test_shared_replay_memory_is_seen_by_another_process():
 
 
 def test_fast_mode_learns_the_demo(tmp_path):
-    """The fast demo on three quarters of its budget (about 12 s of training on two idle cores), tested on
-    50 episodes: at least 90% successes."""
+    """make demo's run (600 episodes, about 12 s of training on two idle cores), tested on 50
+    episodes: at least 90% successes (seeds 1-5 gave 98-100% on 100)."""
     config = load_yaml("configs/demo.yaml")
-    config = replace(config, episodes=600,
-                     schedule=replace(config.schedule, epsilon_decay_episodes=300, lr_decay_episodes=600),
-                     run=replace(config.run, runs_dir=str(tmp_path), progress=False, checkpoint_every=600),
-                     test=replace(config.test, eval_after_training=False)).validate()
     assert config.run.fast, "configs/demo.yaml trains in the fast mode"
+    config = replace(config, run=replace(config.run, runs_dir=str(tmp_path), progress=False),
+                     test=replace(config.test, eval_after_training=False)).validate()
     run_dir = train(config)
     rows = metrics(run_dir)
     assert len(rows) == 600 and rows[-1]["loss"]

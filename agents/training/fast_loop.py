@@ -108,7 +108,7 @@ def train_fast(config: Config) -> Path:
             cleanup.callback(bar.close)
         learner.start(global_step)
         learner.copy_weights_to(actor)
-        losses_seen, first_step = learner.loss_totals(), global_step
+        losses_seen, first_step, first_wall_time = learner.loss_totals(), global_step, wall_time
 
         # --- the training loop: collect here, learn there
         t_start, cpu_start = time.perf_counter(), time.process_time()
@@ -155,9 +155,10 @@ def train_fast(config: Config) -> Path:
         if bar is not None:
             bar.close()
         if config.episodes > start_episode:
-            seconds, steps = time.perf_counter() - t_start, global_step - first_step
-            print(f"fast mode: {config.episodes - start_episode} episodes, {steps} steps in {seconds:.1f} s "
-                  f"({steps / seconds:.0f} steps/s, {learner.updates} updates); CPU time: collector "
+            seconds, steps = wall_time - first_wall_time, global_step - first_step
+            print(f"fast mode: {config.episodes - start_episode} episodes, {steps} steps, {learner.updates} updates "
+                  f"in {seconds:.1f} s of training ({steps / seconds:.0f} steps/s; "
+                  f"{time.perf_counter() - t_start:.1f} s with checkpoints); CPU time: collector "
                   f"{time.process_time() - cpu_start:.1f} s (waiting {learner.waited_s:.1f} s for the learner), "
                   f"learner {learner.cpu_s:.1f} s")
     return run_dir
