@@ -12,7 +12,7 @@ it has made the same number of updates as ``agents.training.loop`` would have (o
 ``train_frequency`` steps once ``learning_starts`` steps are stored), never more; the collector
 waits when the learner falls more than ``MAX_LAG_STEPS`` steps behind, and at the end until it
 has caught up. Hard target copies fall on the same updates as in the single-process loop.
-What differs is timing: the collector acts with weights at most ``sync_steps`` steps (plus the
+What differs is timing: the collector acts with weights at most ``fast_sync_steps`` steps (plus the
 lag) old, so a fast run does not replay bit for bit.
 """
 
@@ -117,7 +117,7 @@ class LearnerProcess:
         self.conn, child = ctx.Pipe()
         self.process = ctx.Process(target=learn, name="dqn-learner", daemon=True,
                                    args=(config, input_specs, n_actions, memory, self.control, self.weights,
-                                         self.lock, child))
+                                         self.lock, child, os.getpid()))
         self.process.start()
         child.close()
         self._version = 0.0
@@ -211,6 +211,7 @@ class LearnerProcess:
         self.wait_for(lambda: self.updates >= due)
 
     def wait_for(self, done) -> None:
+        """Sleep in short steps until ``done()``; a learner that failed or ended is an error."""
         t0 = time.perf_counter()
         while not done():
             self._check_alive()
@@ -230,8 +231,10 @@ class LearnerProcess:
 
 
 # ---------------------------------------------------------------------------------------- the child
-def learn(config, input_specs, n_actions, memory: SharedReplayMemory, control: torch.Tensor, weights, lock, conn):
-    """The learner process: update whenever an update is due, answer the collector's commands."""
+def learn(config, input_specs, n_actions, memory: SharedReplayMemory, control: torch.Tensor, weights, lock, conn,
+          collector: int):
+    """The learner process: update whenever an update is due, answer the collector's commands (the
+    process ``collector``), end when it is gone."""
     import traceback
 
     from agents.core.learner import DQNLearner
@@ -240,7 +243,7 @@ def learn(config, input_specs, n_actions, memory: SharedReplayMemory, control: t
     from agents.training.threads import limit_threads
 
     limit_threads(1)
-    ctrl, collector = control.numpy(), os.getppid()
+    ctrl = control.numpy()
     try:
         d = config.dqn
         learner = DQNLearner(build_q_network(config, input_specs, n_actions), Batch(d.batch_size, input_specs),
