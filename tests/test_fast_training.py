@@ -11,7 +11,8 @@ from agents.dqn import train
 from agents.training import checkpoint as ckpt
 from agents.training import loop
 from agents.training.config_io import load_yaml, make
-from agents.training.learner_process import SharedReplayMemory, updates_due
+from agents.training.learner_process import updates_due
+from agents.training.shared_replay import SharedReplayMemory
 from agents.training.test_phase import evaluate
 
 
@@ -95,9 +96,20 @@ def test_fast_run_directory_resumes_and_tests(tmp_path):
     assert summary["episodes"] == 2
 
 
+def test_pixel_runs_train_in_the_fast_mode(tmp_path):
+    run_dir = train(small(tmp_path, task="DynNav-VisualMovingTargets-v1", camera_frames=4, camera_input="pixels",
+                          episodes=2, learning_starts=40, batch_size=16, buffer_size=500))
+    rows = metrics(run_dir)
+    assert len(rows) == 2 and rows[-1]["loss"], "the learner made no update"
+    state = ckpt.load(run_dir)
+    frames = state["memory"]["frames"]
+    assert frames.shape[1:] == (32, 32, 4) and frames.any(), "the frames did not reach the checkpoint"
+    assert state["global_step"] == int(rows[-1]["global_step"])
+
+
 def test_bad_fast_combinations_are_clear_errors(tmp_path):
-    with pytest.raises(ValueError, match="state-vector runs only"):
-        train(small(tmp_path, task="DynNav-VisualMovingTargets-v1", camera_frames=4))
+    with pytest.raises(ValueError, match="state-vector and pixel runs"):
+        train(small(tmp_path, task="DynNav-VisualMovingTargets-v1", camera_frames=4, camera_input="latent"))
     with pytest.raises(ValueError, match="does not record"):
         train(small(tmp_path, rerun=str(tmp_path / "x.rrd")))
     with pytest.raises(ValueError, match="single-process loop"):

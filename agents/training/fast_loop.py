@@ -12,7 +12,8 @@ The run directory is the same (config.yaml, metrics.csv, checkpoint/, the test p
 replay bit for bit (its actor's weights lag the learner's by up to a few hundred steps, by
 timing); ``--resume`` continues from the last checkpoint with the same networks, Adam state,
 replay memory and exploration generator, but the steps after it differ from run to run.
-State-vector runs only (no camera runs, no Rerun recording while training).
+State-vector and pixel runs (``camera_input: pixels``); not the auto-encoder's camera runs, and no
+Rerun recording while training.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
+from agents.core.frame_replay import FrameReplay
 from agents.core.networks import MLPQNetwork, q_values_of
 from agents.core.policy import build_q_network
 from agents.core.schedules import epsilon_at, learning_rate_at
@@ -31,7 +33,8 @@ from agents.training.config import Config
 from agents.training.config_io import config_from_dict, save_yaml
 from agents.training.envs import make_env_from
 from agents.training.experience import make_experience
-from agents.training.learner_process import LearnerProcess, SharedReplayMemory
+from agents.training.learner_process import LearnerProcess
+from agents.training.shared_replay import SharedFrameReplay, SharedReplayMemory
 from agents.training.loop import restore, save_checkpoint
 from agents.training.rollout import Episode
 from agents.training.run_dir import MetricsLog, check_resumable, episode_seed, new_run_dir
@@ -42,9 +45,10 @@ from dynnav_tasks.outcomes import outcome_of
 
 def check_fast(config: Config) -> None:
     """ValueError if the fast mode cannot run ``config``."""
-    if config.camera.camera_frames:
-        raise ValueError("the fast mode (--fast) trains state-vector runs only; this config reads the camera "
-                         "(camera_frames): drop --fast to train it in the single-process loop")
+    if config.camera.camera_frames and config.camera.camera_input != "pixels":
+        raise ValueError("the fast mode (--fast) trains state-vector and pixel runs (camera_input pixels); the "
+                         "auto-encoder of camera_input latent retrains between episodes in the single-process loop: "
+                         "drop --fast, or set --camera-input pixels")
     if config.run.rerun is not None:
         raise ValueError("the fast mode (--fast) does not record training episodes: drop --rerun, or --fast "
                          "(a trained run can still be recorded with --eval --rerun)")
@@ -66,6 +70,14 @@ def greedy_action(actor):
     return act
 
 
+def shared_memory_for(experience, config) -> SharedReplayMemory | SharedFrameReplay:
+    """An empty replay memory in shared memory in place of the one ``experience`` made."""
+    memory = experience.memory
+    if isinstance(memory, FrameReplay):
+        return SharedFrameReplay(config.dqn.buffer_size, memory.frame_shape, memory.state_dim, memory.latent_dim)
+    return SharedReplayMemory(config.dqn.buffer_size, memory.obs_dim)
+
+
 def train_fast(config: Config) -> Path:
     """Train as ``config`` says (or continue ``config.resume``) on two processes; return the run directory."""
     limit_threads(1)
@@ -84,7 +96,7 @@ def train_fast(config: Config) -> Path:
         cleanup.callback(env.close)
         experience = make_experience(env, config)
         specs, n_actions = experience.features.input_specs, int(env.action_space.n)
-        experience.memory = SharedReplayMemory(d.buffer_size, specs[0][0][0])  # the learner samples from it
+        experience.memory = shared_memory_for(experience, config)  # the learner samples from it
         actor = build_q_network(config, specs, n_actions)  # the learner's initial weights: same seed
         act = greedy_action(actor)
         learner = cleanup.enter_context(LearnerProcess(config, specs, n_actions, experience.memory))

@@ -2,6 +2,7 @@
 memory in shared memory that the collecting process fills (Ape-X style, one collector).
 
     memory = SharedReplayMemory(capacity, obs_dim)        # the collector adds, the learner samples
+                                                          # (SharedFrameReplay for pixel runs)
     with LearnerProcess(config, input_specs, n_actions, memory) as learner:
         learner.collected(global_step)                    # after every environment step
         learner.copy_weights_to(actor)                    # the collector's acting network, now and then
@@ -26,7 +27,7 @@ import numpy as np
 import torch
 import torch.multiprocessing as mp
 
-from agents.core.replay import ReplayMemory
+from agents.training.shared_replay import SharedFrameReplay, SharedReplayMemory
 
 MAX_LAG_STEPS = 2000
 """the collector waits while the learner's updates are behind by more than this many steps' worth"""
@@ -34,51 +35,6 @@ PUBLISH_EVERY = 16
 """the learner publishes its online network's weights for the collector every this many updates"""
 # slots of the shared control array (float64: exact for counts below 2**53)
 STEPS, UPDATES, LR, LOSS_SUM, LOSS_COUNT, VERSION, FAILED, CPU_S = range(8)
-
-
-class SharedReplayMemory(ReplayMemory):
-    """A ``ReplayMemory`` whose arrays and counters live in shared memory: one process adds, another samples.
-
-    It crosses into a ``torch.multiprocessing`` child without copying (the child sees the same arrays)."""
-
-    def __init__(self, capacity: int, obs_dim: int, tensors: dict | None = None):
-        if capacity < 1:
-            raise ValueError(f"replay memory capacity must be positive, got {capacity}")
-        if tensors is None:
-            tensors = dict(obs=torch.zeros(capacity, obs_dim), next_obs=torch.zeros(capacity, obs_dim),
-                           actions=torch.zeros(capacity, dtype=torch.int64), rewards=torch.zeros(capacity),
-                           not_done=torch.zeros(capacity), counters=torch.zeros(2, dtype=torch.int64))
-            for t in tensors.values():
-                t.share_memory_()
-        self.tensors = tensors
-        """the shared tensors behind the arrays"""
-        self.capacity, self.obs_dim = int(capacity), int(obs_dim)
-        self.obs, self.next_obs = tensors["obs"].numpy(), tensors["next_obs"].numpy()
-        self.actions, self.rewards = tensors["actions"].numpy(), tensors["rewards"].numpy()
-        self.not_done = tensors["not_done"].numpy()
-        self._counters = tensors["counters"].numpy()
-
-    def __reduce__(self):
-        return SharedReplayMemory, (self.capacity, self.obs_dim, self.tensors)
-
-    # pos and size are shared too; size is written after the transition, so a sample never reads an empty slot
-    @property
-    def pos(self) -> int:
-        """index the next transition is written to"""
-        return int(self._counters[0])
-
-    @pos.setter
-    def pos(self, value: int) -> None:
-        self._counters[0] = value
-
-    @property
-    def size(self) -> int:
-        """number of transitions held"""
-        return int(self._counters[1])
-
-    @size.setter
-    def size(self, value: int) -> None:
-        self._counters[1] = value
 
 
 def updates_due(config, steps: int) -> int:
@@ -102,7 +58,7 @@ class LearnerProcess:
     It stands in for a ``DQNLearner`` where the training loop's helpers need one
     (``learning_rate``, ``state_dict``, ``load_state_dict``)."""
 
-    def __init__(self, config, input_specs, n_actions: int, memory: SharedReplayMemory):
+    def __init__(self, config, input_specs, n_actions: int, memory: SharedReplayMemory | SharedFrameReplay):
         self.config = config
         ctx = mp.get_context("spawn")
         self.control = torch.zeros(8, dtype=torch.float64).share_memory_()
@@ -231,8 +187,8 @@ class LearnerProcess:
 
 
 # ---------------------------------------------------------------------------------------- the child
-def learn(config, input_specs, n_actions, memory: SharedReplayMemory, control: torch.Tensor, weights, lock, conn,
-          collector: int):
+def learn(config, input_specs, n_actions, memory: SharedReplayMemory | SharedFrameReplay, control: torch.Tensor,
+          weights, lock, conn, collector: int):
     """The learner process: update whenever an update is due, answer the collector's commands (the
     process ``collector``), end when it is gone."""
     import traceback
@@ -250,6 +206,7 @@ def learn(config, input_specs, n_actions, memory: SharedReplayMemory, control: t
                              d.gamma, double=d.algorithm == "ddqn", loss=d.loss, max_grad_norm=d.max_grad_norm,
                              learning_rate=config.schedule.learning_rate, device=config.run.device)
         rng = np.random.default_rng(np.random.SeedSequence([config.seed, 1]))
+        sample_into = memory.sample_frames_into if isinstance(memory, SharedFrameReplay) else memory.sample_into
         params = list(learner.q.parameters())
         updates, loss_sum, loss_count = 0, 0.0, 0
         cpu0 = time.process_time()  # start-up (imports, networks) not counted
@@ -283,7 +240,7 @@ def learn(config, input_specs, n_actions, memory: SharedReplayMemory, control: t
                     return
                 time.sleep(0.0005)
                 continue
-            memory.sample_into(learner.batch, rng)
+            sample_into(learner.batch, rng)
             learner.learning_rate = ctrl[LR]
             loss = learner.update()
             updates += 1
