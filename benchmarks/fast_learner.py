@@ -17,8 +17,8 @@ gradient norm at 10; dynnav uses the config's (the demo: Double DQN, MSE, no cli
 
 Steps/s is the training's environment steps divided by its wall-clock (from the first step to
 the last update; start-up and the test phase excluded). The ratio is dynnav fast / SB3.
-``--camera`` adds the 5.5c 4-frame agents' training steps/s in the single-process loop (the fast
-mode trains state-vector runs only).
+``--camera`` adds the 5.5c 4-frame agents' training steps/s: the auto-encoder agent in the
+single-process loop (the fast mode does not train it), the pixel agent in both.
 """
 
 from __future__ import annotations
@@ -26,6 +26,7 @@ from __future__ import annotations
 import argparse
 import csv
 import os
+import shutil
 import sys
 import tempfile
 import time
@@ -90,9 +91,9 @@ def train_sb3(config, steps: int) -> tuple[int, float, float]:
     return steps, seconds, float(np.mean([e.outcome == "success" for e in episodes]))
 
 
-def camera_rate(camera_input: str, episodes: int) -> float:
-    """Training steps/s of a 5.5c 4-frame agent (its study config) in the single-process loop,
-    over the episodes with Q-updates."""
+def camera_rate(camera_input: str, episodes: int, fast: bool = False) -> float:
+    """Training steps/s of a 5.5c 4-frame agent (its study config, a smaller memory) over the
+    episodes with Q-updates, in the single-process loop or (pixels) the fast mode."""
     from agents.dqn import train
     from agents.training.config_io import load_yaml
 
@@ -101,8 +102,8 @@ def camera_rate(camera_input: str, episodes: int) -> float:
     extra = dict(ae_first_update=2, ae_updates=1, ae_iterations=1, ae_batches=2, ae_batch_size=64) \
         if camera_input == "latent" else {}
     with tempfile.TemporaryDirectory() as tmp:
-        config = replace(config, episodes=episodes, run=replace(config.run, runs_dir=tmp, progress=False,
-                                                                checkpoint_every=10_000),
+        config = replace(config, episodes=episodes,
+                         run=replace(config.run, runs_dir=tmp, progress=False, checkpoint_every=10_000, fast=fast),
                          dqn=replace(config.dqn, learning_starts=200, buffer_size=20_000),
                          camera=replace(config.camera, **extra),
                          test=replace(config.test, eval_after_training=False)).validate()
@@ -110,6 +111,26 @@ def camera_rate(camera_input: str, episodes: int) -> float:
         with open(run / "metrics.csv", newline="") as f:
             rows = [r for r in csv.DictReader(f) if r["loss"]]
     return sum(int(r["length"]) for r in rows) / sum(int(r["length"]) / float(r["steps_per_s"]) for r in rows)
+
+
+def compare(config, skip_deterministic: bool) -> None:
+    """Train ``config`` with dynnav's fast mode, its single-process loop and SB3; print the table."""
+    rows = []
+    print("dynnav fast mode ...")
+    fast = train_dynnav(replace(config, run=replace(config.run, fast=True)).validate())
+    rows.append(("dynnav, fast mode (2 processes)", *fast))
+    if not skip_deterministic:
+        print("dynnav single-process loop ...")
+        rows.append(("dynnav, single process (deterministic)",
+                     *train_dynnav(replace(config, run=replace(config.run, fast=False)).validate())))
+    print("Stable-Baselines3 DQN ...")
+    sb3 = train_sb3(config, fast[0])
+    rows.append(("Stable-Baselines3 DQN", *sb3))
+    print(f"\n{'trainer':<42} {'steps':>7} {'train s':>8} {'steps/s':>8} {'test success':>13}")
+    for name, steps, seconds, success in rows:
+        print(f"{name:<42} {steps:>7} {seconds:>8.1f} {steps / seconds:>8.0f} {success:>13.0%}")
+    ratio = (fast[0] / fast[1]) / (sb3[0] / sb3[1])
+    print(f"\ndynnav fast mode / SB3: {ratio:.2f}x the training steps per second")
 
 
 def main() -> None:
@@ -120,6 +141,7 @@ def main() -> None:
     parser.add_argument("--eval-episodes", type=int, default=0, help="test episodes (default: the config's)")
     parser.add_argument("--skip-deterministic", action="store_true", help="leave out the single-process loop")
     parser.add_argument("--camera", action="store_true", help="also the 5.5c 4-frame agents' steps/s")
+    parser.add_argument("--only-camera", action="store_true", help="only the 5.5c 4-frame agents' steps/s")
     parser.add_argument("--camera-episodes", type=int, default=12, help="episodes per camera agent (default 12)")
     args = parser.parse_args()
     import torch
@@ -140,26 +162,17 @@ def main() -> None:
     print(f"{config.task}, {args.config}: {config.episodes} episodes, {d.algorithm}, batch {d.batch_size}, "
           f"train frequency {d.train_frequency}, target copy every {d.target_update_interval} steps, "
           f"seed {config.seed}, {config.test.eval_episodes} test episodes\n")
-    rows = []
-    print("dynnav fast mode ...")
-    fast = train_dynnav(replace(config, run=replace(config.run, fast=True)).validate())
-    rows.append(("dynnav, fast mode (2 processes)", *fast))
-    if not args.skip_deterministic:
-        print("dynnav single-process loop ...")
-        rows.append(("dynnav, single process (deterministic)",
-                     *train_dynnav(replace(config, run=replace(config.run, fast=False)).validate())))
-    print("Stable-Baselines3 DQN ...")
-    sb3 = train_sb3(config, fast[0])
-    rows.append(("Stable-Baselines3 DQN", *sb3))
-    print(f"\n{'trainer':<42} {'steps':>7} {'train s':>8} {'steps/s':>8} {'test success':>13}")
-    for name, steps, seconds, success in rows:
-        print(f"{name:<42} {steps:>7} {seconds:>8.1f} {steps / seconds:>8.0f} {success:>13.0%}")
-    ratio = (fast[0] / fast[1]) / (sb3[0] / sb3[1])
-    print(f"\ndynnav fast mode / SB3: {ratio:.2f}x the training steps per second")
-    if args.camera:
-        print("\n5.5c, 4 gray frames, single-process loop (training steps/s over the episodes with updates):")
-        for camera_input in ("latent", "pixels"):
-            print(f"  {camera_input:<7} {camera_rate(camera_input, args.camera_episodes):>8.0f} steps/s")
+    try:
+        if not args.only_camera:
+            compare(config, args.skip_deterministic)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    if args.camera or args.only_camera:
+        print("\n5.5c, 4 gray frames (training steps/s over the episodes with updates):")
+        for label, camera_input, fast in [("auto-encoder agent, single process", "latent", False),
+                                          ("pixel agent, single process", "pixels", False),
+                                          ("pixel agent, fast mode", "pixels", True)]:
+            print(f"  {label:<36} {camera_rate(camera_input, args.camera_episodes, fast):>8.0f} steps/s")
     print(f"\nload average {os.getloadavg()[0]:.2f} at the end")
 
 

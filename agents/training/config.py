@@ -186,7 +186,7 @@ class RunConfig:
     fast: bool = False
     """train on two processes: this one steps the environment, a second one makes the updates from a
     shared replay memory (same number of updates per step); faster, but not replayable bit for bit
-    (docs/fast-training.md). State-vector runs only"""
+    (docs/fast-training.md). State-vector and pixel runs (not camera_input latent)"""
     fast_sync_steps: int = 50
     """fast mode: the acting network copies the learner's latest weights every this many steps"""
 
