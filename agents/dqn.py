@@ -2,6 +2,7 @@
 with discrete actions and a state vector.
 
     python -m agents.dqn --config configs/study/5.2.yaml        # train, then test
+    python -m agents.dqn --config configs/study/5.2.yaml --fast # on two processes (agents.training.fast_loop)
     python -m agents.dqn --task CartPole-v1 --episodes 300              # any gymnasium env
     python -m agents.dqn --resume runs/<run>                            # continue a stopped run
     python -m agents.dqn --eval --checkpoint runs/<run>                 # test phase only
