@@ -82,7 +82,6 @@ def train_fast(config: Config) -> Path:
     """Train as ``config`` says (or continue ``config.resume``) on two processes; return the run directory."""
     limit_threads(1)
     check_fast(config)
-    d = config.dqn
     with contextlib.ExitStack() as cleanup:
         # --- checks: a resumed run's directory is locked first, so its checkpoint cannot change under us
         if config.resume and Path(config.resume).is_dir():
@@ -150,8 +149,9 @@ def train_fast(config: Config) -> Path:
                     break
 
             last = episode + 1 == config.episodes
-            if last:
-                learner.catch_up()  # every update due, as many as the single-process loop makes
+            checkpoint = (episode + 1) % config.run.checkpoint_every == 0 or last
+            if checkpoint:
+                learner.catch_up()  # every update due so far, as many as the single-process loop makes
             elapsed = time.perf_counter() - t0
             wall_time += elapsed
             loss_sum, loss_count = learner.loss_totals()
@@ -160,7 +160,7 @@ def train_fast(config: Config) -> Path:
             result = Episode(seed, ret, length, info, terminated, outcome_of(info, terminated))
             metrics.log(episode, global_step, result, losses, epsilon, learner.learning_rate, elapsed, wall_time,
                         None, bar)
-            if (episode + 1) % config.run.checkpoint_every == 0 or last:
+            if checkpoint:
                 counts = dict(episode=episode + 1, global_step=global_step, wall_time_s=wall_time)
                 save_checkpoint(run_dir, config, counts, learner, experience, rng, n_actions)
                 metrics.plot(run_dir, title=config.task)

@@ -22,12 +22,17 @@ from __future__ import annotations
 import contextlib
 import os
 import time
+import traceback
 
 import numpy as np
 import torch
 import torch.multiprocessing as mp
 
+from agents.core.learner import DQNLearner
+from agents.core.policy import build_q_network
+from agents.core.replay import Batch
 from agents.training.shared_replay import SharedFrameReplay, SharedReplayMemory
+from agents.training.threads import limit_threads
 
 MAX_LAG_STEPS = 2000
 """the collector waits while the learner's updates are behind by more than this many steps' worth"""
@@ -64,8 +69,6 @@ class LearnerProcess:
         self.control = torch.zeros(8, dtype=torch.float64).share_memory_()
         self._control = self.control.numpy()
         self._control[LR] = config.schedule.learning_rate
-        from agents.core.policy import build_q_network
-
         self.weights = [p.detach().clone().share_memory_()
                         for p in build_q_network(config, input_specs, n_actions).parameters()]
         """the online network's weights as the learner last published them"""
@@ -191,13 +194,6 @@ def learn(config, input_specs, n_actions, memory: SharedReplayMemory | SharedFra
           weights, lock, conn, collector: int):
     """The learner process: update whenever an update is due, answer the collector's commands (the
     process ``collector``), end when it is gone."""
-    import traceback
-
-    from agents.core.learner import DQNLearner
-    from agents.core.policy import build_q_network
-    from agents.core.replay import Batch
-    from agents.training.threads import limit_threads
-
     limit_threads(1)
     ctrl = control.numpy()
     try:
