@@ -109,11 +109,15 @@ def test_pixel_runs_train_in_the_fast_mode(tmp_path):
 
 def test_bad_fast_combinations_are_clear_errors(tmp_path):
     with pytest.raises(ValueError, match="state-vector and pixel runs"):
-        train(small(tmp_path, task="DynNav-VisualMovingTargets-v1", camera_frames=4, camera_input="latent"))
+        small(tmp_path, task="DynNav-VisualMovingTargets-v1", camera_frames=4, camera_input="latent")
     with pytest.raises(ValueError, match="does not record"):
-        train(small(tmp_path, rerun=str(tmp_path / "x.rrd")))
+        small(tmp_path, rerun=str(tmp_path / "x.rrd"))
+    with pytest.raises(ValueError, match="does not record"):  # a config not validated is checked by the fast loop too
+        train(replace(small(tmp_path), run=replace(small(tmp_path).run, rerun=str(tmp_path / "x.rrd"))))
     with pytest.raises(ValueError, match="single-process loop"):
         loop.train(small(tmp_path))
     with pytest.raises(ValueError, match="fast_sync_steps"):
         small(tmp_path, fast_sync_steps=0)
     assert not (tmp_path / "runs").exists(), "a refused run wrote files"
+    # testing a fast run's checkpoint with a recording is no training: allowed
+    assert make(eval=True, checkpoint="runs/x", fast=True, rerun=str(tmp_path / "x.rrd")).validate().run.fast

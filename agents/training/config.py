@@ -301,9 +301,22 @@ def validate(c: Config) -> None:
             parse_task_options(entry)
         except ValueError as err:
             raise ValueError(f"also_test_on: {err}") from err
+    if c.run.fast and not c.eval:
+        check_fast(c)
     check_device(c.run.device)
     if c.eval and not c.checkpoint:
         raise ValueError("--eval needs --checkpoint <checkpoint or run directory>")
+
+
+def check_fast(c: Config) -> None:
+    """ValueError if the fast mode (run.fast) cannot train ``c``."""
+    if c.camera.camera_frames and c.camera.camera_input != "pixels":
+        raise ValueError("the fast mode (--fast) trains state-vector and pixel runs (camera_input pixels); the "
+                         "auto-encoder of camera_input latent retrains between episodes in the single-process loop: "
+                         "drop --fast, or set --camera-input pixels")
+    if c.run.rerun is not None:
+        raise ValueError("the fast mode (--fast) does not record training episodes: drop --rerun, or --fast "
+                         "(a trained run can still be recorded with --eval --rerun)")
 
 
 def check_device(device: str) -> None:

@@ -29,7 +29,7 @@ from agents.core.networks import MLPQNetwork, q_values_of
 from agents.core.policy import build_q_network
 from agents.core.schedules import epsilon_at, learning_rate_at
 from agents.training import checkpoint as ckpt
-from agents.training.config import Config
+from agents.training.config import Config, check_fast
 from agents.training.config_io import config_from_dict, save_yaml
 from agents.training.envs import make_env_from
 from agents.training.experience import make_experience
@@ -41,17 +41,6 @@ from agents.training.run_dir import MetricsLog, check_resumable, episode_seed, n
 from agents.training.run_lock import RunDirLock
 from agents.training.threads import limit_threads
 from dynnav_tasks.outcomes import outcome_of
-
-
-def check_fast(config: Config) -> None:
-    """ValueError if the fast mode cannot run ``config``."""
-    if config.camera.camera_frames and config.camera.camera_input != "pixels":
-        raise ValueError("the fast mode (--fast) trains state-vector and pixel runs (camera_input pixels); the "
-                         "auto-encoder of camera_input latent retrains between episodes in the single-process loop: "
-                         "drop --fast, or set --camera-input pixels")
-    if config.run.rerun is not None:
-        raise ValueError("the fast mode (--fast) does not record training episodes: drop --rerun, or --fast "
-                         "(a trained run can still be recorded with --eval --rerun)")
 
 
 def greedy_action(actor):
