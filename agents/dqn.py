@@ -2,6 +2,7 @@
 with discrete actions and a state vector.
 
     python -m agents.dqn --config configs/study/5.2.yaml        # train, then test
+    python -m agents.dqn --config configs/study/5.2.yaml --fast # on two processes (agents.training.fast_loop)
     python -m agents.dqn --task CartPole-v1 --episodes 300              # any gymnasium env
     python -m agents.dqn --resume runs/<run>                            # continue a stopped run
     python -m agents.dqn --eval --checkpoint runs/<run>                 # test phase only
@@ -40,10 +41,21 @@ import sys
 
 from agents.files import DiskFullError
 from agents.training.config_io import parse_args
-from agents.training.loop import train
+from agents.training import loop
+from agents.training.config import Config
+from agents.training.fast_loop import train_fast
 from agents.training.test_phase import evaluate_as_configured
 
 __all__ = ["main", "train"]
+
+
+def train(config: Config):
+    """Train as ``config`` says and return the run directory: in the single-process loop
+    (``agents.training.loop``, replayable from the seed), or with ``run.fast`` on two processes
+    (``agents.training.fast_loop``)."""
+    if config.run.fast:
+        return train_fast(config)
+    return loop.train(config)
 
 
 def main(argv: list[str] | None = None) -> None:

@@ -183,6 +183,12 @@ class RunConfig:
     its Q-values, the training curves, and (with --eval) every test episode"""
     rerun_every: int = 100
     """record every this many training episodes (the first included)"""
+    fast: bool = False
+    """train on two processes: this one steps the environment, a second one makes the updates from a
+    shared replay memory (same number of updates per step); faster, but not replayable bit for bit
+    (docs/fast-training.md). State-vector and pixel runs (not camera_input latent)"""
+    fast_sync_steps: int = 50
+    """fast mode: the acting network copies the learner's latest weights every this many steps"""
 
 
 @dataclass
@@ -244,7 +250,7 @@ def get(config: Config, name: str):
 # ---------------------------------------------------------------------------------------- validation
 POSITIVE = ["episodes", "checkpoint_every", "batch_size", "buffer_size", "train_frequency", "target_update_interval",
             "eval_episodes", "lr_decay_episodes", "rerun_every", "ae_dense", "ae_update_every", "ae_batch_size",
-            "ae_pictures_every", "state_frames"]
+            "ae_pictures_every", "state_frames", "fast_sync_steps"]
 NOT_NEGATIVE = ["learning_starts", "random_episodes", "epsilon_decay_episodes", "camera_frames", "ae_latent",
                 "ae_first_update", "ae_updates", "ae_iterations", "ae_batches", "pixel_shift"]
 
@@ -295,9 +301,22 @@ def validate(c: Config) -> None:
             parse_task_options(entry)
         except ValueError as err:
             raise ValueError(f"also_test_on: {err}") from err
+    if c.run.fast and not c.eval:
+        check_fast(c)
     check_device(c.run.device)
     if c.eval and not c.checkpoint:
         raise ValueError("--eval needs --checkpoint <checkpoint or run directory>")
+
+
+def check_fast(c: Config) -> None:
+    """ValueError if the fast mode (run.fast) cannot train ``c``."""
+    if c.camera.camera_frames and c.camera.camera_input != "pixels":
+        raise ValueError("the fast mode (--fast) trains state-vector and pixel runs (camera_input pixels); the "
+                         "auto-encoder of camera_input latent retrains between episodes in the single-process loop: "
+                         "drop --fast, or set --camera-input pixels")
+    if c.run.rerun is not None:
+        raise ValueError("the fast mode (--fast) does not record training episodes: drop --rerun, or --fast "
+                         "(a trained run can still be recorded with --eval --rerun)")
 
 
 def check_device(device: str) -> None:

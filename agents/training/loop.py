@@ -62,6 +62,8 @@ def train(config: Config) -> Path:
 
     Everything is checked (config, task, checkpoint, recording path) before any file is written;
     a run directory that another live process is writing is refused (``RunDirBusy``)."""
+    if config.run.fast:
+        raise ValueError("run.fast: this is the single-process loop; train a fast run with agents.dqn.train")
     limit_threads(1)
     d = config.dqn
     with contextlib.ExitStack() as cleanup:
