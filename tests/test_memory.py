@@ -211,3 +211,37 @@ def test_an_unknown_recurrent_layer_in_a_config_file_is_an_error(tmp_path):
     path.write_text("dqn: {recurrent: rnn}\n")
     with pytest.raises(ValueError, match="recurrent"):
         load_yaml(path)
+
+
+def test_a_camera_run_replays_its_sequences_through_the_current_encoder(tmp_path):
+    """World 5.5a with the auto-encoder updated after episodes 1 and 2 (tiny updates): the
+    Q-network trains after the first, and every stored frame's latent is the current encoder's."""
+    import agents.training.loop as loop
+
+    config = make(task="DynNav-VisualStaticTarget-v1", camera_frames=1, episodes=3, ae_first_update=1,
+                  ae_update_every=1, ae_updates=2, ae_iterations=1, ae_batches=2, ae_batch_size=16,
+                  ae_pictures_every=10, random_episodes=1, epsilon_decay_episodes=2, learning_starts=16,
+                  batch_size=4, hidden_sizes=(16,), recurrent="gru", recurrent_size=16, sequence_length=4,
+                  burn_in=2, buffer_size=2000, checkpoint_every=3, runs_dir=str(tmp_path), progress=False,
+                  eval_after_training=False, seed=5).validate()
+    seen = {}
+    original = loop.update_state_representation
+
+    def spy(srl, memory, rng, episodes_done, cfg, run_dir):
+        original(srl, memory, rng, episodes_done, cfg, run_dir)
+        seen.update(srl=srl, memory=memory)
+
+    loop.update_state_representation = spy
+    try:
+        run = loop.train(config)
+    finally:
+        loop.update_state_representation = original
+    losses = [r["loss"] for r in rows(run)]
+    assert losses[0] == "" and all(losses[1:]), losses  # random until the first update, then training
+    srl, memory = seen["srl"], seen["memory"]
+    assert srl.updates_done == 2
+    batch = SequenceBatch(8, 4, 2, srl.latent_dim)
+    w = sample_sequences_into(memory, batch, np.random.default_rng(0))
+    np.testing.assert_allclose(batch.obs[0], srl.encode(memory.frames[w.slots[0]]), rtol=1e-4, atol=1e-4)
+    summary = evaluate(run, episodes=1, picture=False, verbose=False)  # the test phase reads latents too
+    assert summary["episodes"] == 1
