@@ -245,3 +245,16 @@ def test_a_camera_run_replays_its_sequences_through_the_current_encoder(tmp_path
     np.testing.assert_allclose(batch.obs[0], srl.encode(memory.frames[w.slots[0]]), rtol=1e-4, atol=1e-4)
     summary = evaluate(run, episodes=1, picture=False, verbose=False)  # the test phase reads latents too
     assert summary["episodes"] == 1
+
+
+def test_the_memory_settings_change_a_runs_config_hash_only_with_memory():
+    from agents.study.run_record import config_hash
+    from agents.training.config_io import to_yaml_dict
+
+    plain = to_yaml_dict(make(task="DynNav-MovingTarget-v1"))
+    older = {**plain, "dqn": {k: v for k, v in plain["dqn"].items()
+                              if k not in ("recurrent", "recurrent_size", "sequence_length", "burn_in")}}
+    assert config_hash(older) == config_hash(plain)  # a run recorded before the settings existed
+    gru = to_yaml_dict(make(task="DynNav-MovingTarget-v1", recurrent="gru"))
+    longer = to_yaml_dict(make(task="DynNav-MovingTarget-v1", recurrent="gru", sequence_length=40))
+    assert len({config_hash(plain), config_hash(gru), config_hash(longer)}) == 3
