@@ -118,6 +118,8 @@ def test_bad_fast_combinations_are_clear_errors(tmp_path):
         loop.train(small(tmp_path))
     with pytest.raises(ValueError, match="fast_sync_steps"):
         small(tmp_path, fast_sync_steps=0)
+    with pytest.raises(ValueError, match="feed-forward Q-networks; recurrent 'gru'"):
+        small(tmp_path, recurrent="gru")
     assert not (tmp_path / "runs").exists(), "a refused run wrote files"
     # testing a fast run's checkpoint with a recording is no training: allowed
     assert make(eval=True, checkpoint="runs/x", fast=True, rerun=str(tmp_path / "x.rrd")).validate().run.fast

@@ -13,6 +13,10 @@ latent vector. The cache is written when the frame is encoded to act on it and r
 for every stored frame after each auto-encoder update (``refresh_latents``), so replayed
 transitions are always seen through the current encoder.
 
+A recurrent Q-network's state-vector runs keep their scaled state vectors here as the state
+parts, with frames of shape (0,): its sequences need the slots' episode order
+(``agents.core.sequence_replay``).
+
 Memory: one 32x32 RGB frame is 3,072 bytes (a stack of four gray frames 4,096), so the
 default 100,000 slots hold 307 MB (410 MB) of frames; ``nbytes`` gives the total.
 """

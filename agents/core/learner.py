@@ -69,6 +69,12 @@ class DQNLearner:
             group["lr"] = float(value)
 
     # ------------------------------------------------------------------ acting
+    recurrent = False
+    """whether the Q-network carries a hidden state through an episode (``agents.core.recurrent``)"""
+
+    def reset(self) -> None:
+        """An episode starts: nothing to forget for a feed-forward Q-network."""
+
     def q_values(self, x) -> np.ndarray:
         """Q-values (actions,) of one observation's input (an array, or a tuple of arrays)."""
         return q_values_of(self.q, x, self.device)
@@ -87,12 +93,32 @@ class DQNLearner:
     def td_target(self, next_obs, rewards, not_done) -> torch.Tensor:
         """r + gamma * (1 - terminated) * Q_target(s', a*), without gradient."""
         with torch.no_grad():
-            q_next = self.target(*next_obs)
-            if self.double:
-                best = q_next.gather(1, self.q(*next_obs).argmax(1, keepdim=True)).squeeze(1)
-            else:
-                best = q_next.max(1).values
-            return rewards + self.gamma * not_done * best
+            return self.bootstrap(self.target(*next_obs), self.q(*next_obs) if self.double else None, rewards, not_done)
+
+    def bootstrap(self, q_next_target: torch.Tensor, q_next_online, rewards, not_done) -> torch.Tensor:
+        """r + gamma * (1 - terminated) * Q_target(s', a*) from the next observations' Q-values (actions
+        on the last axis, any leading shape); ``q_next_online`` chooses a* for Double DQN (None for DQN)."""
+        if self.double:
+            best = q_next_target.gather(-1, q_next_online.argmax(-1, keepdim=True)).squeeze(-1)
+        else:
+            best = q_next_target.max(-1).values
+        return rewards + self.gamma * not_done * best
+
+    def td_loss(self, q: torch.Tensor, y: torch.Tensor, mask: torch.Tensor | None = None) -> torch.Tensor:
+        """The mean TD loss (mse or huber) of Q(s, a) against y, over the entries where ``mask`` is 1."""
+        if mask is None:
+            return F.mse_loss(q, y) if self.loss == "mse" else F.smooth_l1_loss(q, y)
+        each = F.mse_loss(q, y, reduction="none") if self.loss == "mse" else F.smooth_l1_loss(q, y, reduction="none")
+        return (each * mask).sum() / mask.sum().clamp(min=1.0)
+
+    def step(self, loss: torch.Tensor) -> float:
+        """One Adam step on ``loss`` (its gradient's global norm clipped to max_grad_norm if set); returns the loss."""
+        self.optimizer.zero_grad(set_to_none=True)
+        loss.backward()
+        if self.max_grad_norm > 0:
+            nn.utils.clip_grad_norm_(self.q.parameters(), self.max_grad_norm)
+        self.optimizer.step()
+        return float(loss.detach())
 
     def update(self) -> float:
         """One gradient step on ``self.batch`` (fill it first); returns the loss."""
@@ -102,13 +128,7 @@ class DQNLearner:
             self.target.train()
         y = self.td_target(next_obs, rewards, not_done)
         q = self.q(*obs).gather(1, actions[:, None]).squeeze(1)
-        loss = F.mse_loss(q, y) if self.loss == "mse" else F.smooth_l1_loss(q, y)
-        self.optimizer.zero_grad(set_to_none=True)
-        loss.backward()
-        if self.max_grad_norm > 0:
-            nn.utils.clip_grad_norm_(self.q.parameters(), self.max_grad_norm)
-        self.optimizer.step()
-        return float(loss.detach())
+        return self.step(self.td_loss(q, y))
 
     def update_target(self, tau: float = 1.0) -> None:
         """Hard copy (tau = 1) or soft update theta- <- tau theta + (1 - tau) theta-."""

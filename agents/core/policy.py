@@ -1,6 +1,6 @@
-"""Q-networks built from a run's config, and a trained policy: a Q-network with the features
-that turn observations into its inputs (``agents.training.policy_loading.load_policy`` loads
-one from a checkpoint)."""
+"""Q-networks and their learners built from a run's config, and a trained policy: a Q-network
+with the features that turn observations into its inputs (``agents.training.policy_loading.load_policy``
+loads one from a checkpoint)."""
 
 from __future__ import annotations
 
@@ -11,14 +11,24 @@ import numpy as np
 import torch
 from torch import nn
 
+from agents.core.learner import DQNLearner
 from agents.core.networks import MLPQNetwork, PixelQNetwork, check_q_network, load_factory, q_values_of
+from agents.core.recurrent import RecurrentLearner, RecurrentQNetwork
+from agents.core.replay import Batch
+from agents.core.sequence_replay import SequenceBatch
 
 
 def build_q_network(config, input_specs, n_actions: int) -> nn.Module:
     """The run's Q-network, initialised from torch's generator seeded with ``config.seed``: the
-    config's ``q_network`` factory, the conv net for pixel runs, or the MLP."""
+    config's ``q_network`` factory, the conv net for pixel runs, the recurrent network (``recurrent``),
+    or the MLP."""
     torch.manual_seed(config.seed)
     shapes = [tuple(shape) for shape, _ in input_specs]
+    if config.dqn.recurrent:
+        if len(shapes) != 1 or len(shapes[0]) != 1:
+            raise ValueError(f"the recurrent Q-network reads one vector; this run's inputs have shapes {shapes}")
+        d = config.dqn
+        return RecurrentQNetwork(shapes[0][0], n_actions, d.hidden_sizes, d.recurrent_size, d.recurrent)
     dtypes = [torch.from_numpy(np.zeros(0, dtype=d)).dtype for _, d in input_specs]
     if config.dqn.q_network:
         module = load_factory(config.dqn.q_network)(shapes, n_actions)
@@ -34,6 +44,18 @@ def build_q_network(config, input_specs, n_actions: int) -> nn.Module:
     return check_q_network(module, shapes, dtypes, n_actions, source)
 
 
+def build_learner(config, q_network: nn.Module, input_specs) -> DQNLearner:
+    """The run's (Double) DQN update of ``q_network``: a ``DQNLearner`` on minibatches of transitions,
+    or with ``recurrent`` a ``RecurrentLearner`` on minibatches of sequences."""
+    d = config.dqn
+    settings = dict(gamma=d.gamma, double=d.algorithm == "ddqn", loss=d.loss, max_grad_norm=d.max_grad_norm,
+                    learning_rate=config.schedule.learning_rate, device=config.run.device)
+    if d.recurrent:
+        batch = SequenceBatch(d.batch_size, d.sequence_length, d.burn_in, input_specs[0][0][0])
+        return RecurrentLearner(q_network, batch, **settings)
+    return DQNLearner(q_network, Batch(d.batch_size, input_specs), **settings)
+
+
 @dataclass
 class Policy:
     """A trained Q-network with the features that turn observations into its inputs."""
@@ -47,14 +69,24 @@ class Policy:
     """the checkpoint folder"""
     state: dict
     """the checkpoint's state without its replay memory"""
+    hidden: object = None
+    """a recurrent Q-network's state in the current episode (None: its start; see ``reset``)"""
 
     @property
     def device(self) -> torch.device:
         """Where the Q-network's parameters live."""
         return next(self.q_network.parameters()).device
 
+    def reset(self) -> None:
+        """An episode starts (call it after every ``env.reset``): a recurrent Q-network forgets the last one."""
+        self.hidden = None
+
     def q_values(self, obs) -> np.ndarray:
-        """Q-values (actions,) of an environment observation."""
+        """Q-values (actions,) of an environment observation (for a recurrent Q-network, of the
+        episode's next observation: its hidden state moves one step on)."""
+        if isinstance(self.q_network, RecurrentQNetwork):
+            q, self.hidden = self.q_network.step(self.features(obs), self.hidden, self.device)
+            return q
         return q_values_of(self.q_network, self.features(obs), self.device)
 
     @property

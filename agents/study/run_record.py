@@ -12,6 +12,8 @@ agents/study/table.py. Tests with other task options (``tests/<key=value,...>/ev
   trained: ``name``, ``description``, ``seed``, the ``run`` group (folder, checkpoints, device,
   progress) and the test fields ``eval_after_training``, ``eval_out``, ``eval_task_kwargs`` and
   ``also_test_on`` (a row's ``tested_on`` says which test it is). The seeds of one experiment share it.
+  The memory settings (``MEMORY_FIELDS``) count only with ``recurrent`` set: without it they change
+  nothing, and runs recorded before they existed keep their hash.
 * convergence episode: the first training episode at which the success rate over the last
   WINDOW episodes reaches 90% of its value over the run's last WINDOW episodes (only full
   windows; none if the run ends at 0%).
@@ -43,6 +45,8 @@ CURVES = ("return", "loss", "success")
 NOT_HASHED = {"name": None, "description": None, "seed": None, "run": None,
               "test": ("eval_after_training", "eval_out", "eval_task_kwargs", "also_test_on")}
 """config fields left out of the config hash (None: the whole field or group)"""
+MEMORY_FIELDS = ("recurrent", "recurrent_size", "sequence_length", "burn_in")
+"""dqn fields of the recurrent Q-network, hashed only when ``recurrent`` is set"""
 REQUIRED = ("config.yaml", "metrics.csv", "eval.json")
 CODE_ROOT = Path(__file__).resolve().parents[2]
 
@@ -56,6 +60,8 @@ def config_hash(config: dict) -> str:
             continue
         if dropped and isinstance(value, dict):
             value = {k: v for k, v in value.items() if k not in dropped}
+        if key == "dqn" and isinstance(value, dict) and not value.get("recurrent"):
+            value = {k: v for k, v in value.items() if k not in MEMORY_FIELDS}
         kept[key] = value
     text = json.dumps(kept, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode()).hexdigest()[:12]

@@ -73,6 +73,17 @@ class DQNConfig:
     """environment steps between hard target copies (C in Alg. 1)"""
     tau: float = 0.005
     """soft target update rate"""
+    recurrent: Optional[Literal["gru", "lstm"]] = None
+    """memory (docs/memory.md): gru or lstm puts that recurrent layer (recurrent_size) between an MLP encoder
+    (hidden_sizes) and the Q head, its state carried through each episode, and trains on stored sequences of
+    sequence_length steps after up to burn_in warm-up steps (batch_size counts sequences); None: no memory"""
+    recurrent_size: int = 128
+    """recurrent: width of the GRU's or LSTM's hidden state"""
+    sequence_length: int = 20
+    """recurrent: transitions per sampled sequence that carry the loss"""
+    burn_in: int = 10
+    """recurrent: steps before each sampled sequence (never before its episode's start) that only warm up the
+    hidden state"""
 
 
 @dataclass
@@ -303,6 +314,7 @@ def validate(c: Config) -> None:
             raise ValueError(f"also_test_on: {err}") from err
     if c.run.fast and not c.eval:
         check_fast(c)
+    validate_memory(c)
     check_device(c.run.device)
     if c.eval and not c.checkpoint:
         raise ValueError("--eval needs --checkpoint <checkpoint or run directory>")
@@ -317,6 +329,25 @@ def check_fast(c: Config) -> None:
     if c.run.rerun is not None:
         raise ValueError("the fast mode (--fast) does not record training episodes: drop --rerun, or --fast "
                          "(a trained run can still be recorded with --eval --rerun)")
+    if c.dqn.recurrent:
+        raise ValueError(f"the fast mode (--fast) trains feed-forward Q-networks; recurrent {c.dqn.recurrent!r} "
+                         "trains on sequences in the single-process loop: drop --fast")
+
+
+def validate_memory(c: Config) -> None:
+    """ValueError if the recurrent Q-network's settings (``dqn.recurrent`` ...) are impossible or clash."""
+    d = c.dqn
+    for name, low in (("recurrent_size", 1), ("sequence_length", 1), ("burn_in", 0)):
+        if get(c, name) < low:
+            raise ValueError(f"{name} must be at least {low}, got {get(c, name)}")
+    if not d.recurrent:
+        return
+    if d.q_network:
+        raise ValueError(f"recurrent {d.recurrent!r} builds its own Q-network; it cannot be combined with "
+                         f"q_network {d.q_network!r} (set one of them)")
+    if c.camera.camera_frames and c.camera.camera_input == "pixels":
+        raise ValueError(f"recurrent {d.recurrent!r} reads vectors (the state, or the auto-encoder's latent "
+                         f"beside state parts); with camera_input pixels use camera_input latent")
 
 
 def check_device(device: str) -> None:

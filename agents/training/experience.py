@@ -16,7 +16,9 @@ makes (``memory`` is what a checkpoint saves)::
   acts at random and the Q-network does not train (Alg. 2);
 * camera runs, ``camera_input: pixels``: the uint8 frames themselves and the chosen state parts,
   two inputs of a conv Q-network.
-Camera runs store every frame once, in a ``FrameReplay``.
+Camera runs store every frame once, in a ``FrameReplay``. With a recurrent Q-network
+(``dqn.recurrent``, docs/memory.md) a ``SequenceExperience`` keeps whole episodes in a
+``FrameReplay`` (state-vector runs without frames) and samples sequences of them.
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ import numpy as np
 from agents.training.envs import ObsScaler, frame_key, state_slices
 from agents.core.frame_replay import FrameReplay
 from agents.core.replay import ReplayMemory
+from agents.core.sequence_replay import sample_sequences_into
 from agents.srl.state_representation import SRLSettings, StateRepresentation
 
 
@@ -49,6 +52,10 @@ def state_part_indices(layout: list[tuple[str, int]], names) -> np.ndarray:
 
 
 # ---------------------------------------------------------------------------------------- features
+NO_FRAME = np.zeros(0, dtype=np.uint8)
+"""the frame of a state-vector observation in a ``FrameReplay`` (none)"""
+
+
 class VectorFeatures:
     """State vector -> scaled state vector."""
 
@@ -58,6 +65,10 @@ class VectorFeatures:
 
     def __call__(self, obs) -> np.ndarray:
         return self.scale(obs).astype(np.float32)
+
+    def split(self, obs) -> tuple[np.ndarray, np.ndarray]:
+        """No frame and the scaled state vector, as a ``FrameReplay`` stores a state-vector observation."""
+        return NO_FRAME, self(obs)
 
 
 class CameraParts:
@@ -211,9 +222,33 @@ class FrameExperience:
         return len(self.memory)
 
 
+class SequenceExperience(FrameExperience):
+    """Recurrent Q-networks: every observation stored once, in episode order, in a ``FrameReplay``
+    (state vectors as its state parts without frames, or camera frames with their state parts and
+    latents), and minibatches of sequences (``agents.core.sequence_replay``)."""
+
+    def __init__(self, features, config):
+        self.features = features
+        self.srl = getattr(features, "srl", None)
+        if self.srl is None:
+            shape, state_dim, latent = NO_FRAME.shape, features.input_specs[0][0][0], 0
+        else:
+            shape, state_dim, latent = features.frame_shape, len(features.parts), self.srl.latent_dim
+        self.memory = FrameReplay(config.dqn.buffer_size, shape, state_dim, latent)
+
+    def _input(self, slot: int, frame: np.ndarray, state: np.ndarray):
+        return state if self.srl is None else super()._input(slot, frame, state)
+
+    def sample_into(self, batch, rng) -> None:
+        """Fill ``batch`` (a ``SequenceBatch``) with sequences of stored episodes drawn with ``rng``."""
+        sample_sequences_into(self.memory, batch, rng)
+
+
 def make_experience(env, config):
     """The features and replay memory of a run, as ``config`` says."""
     features = make_features(env, config)
+    if config.dqn.recurrent:
+        return SequenceExperience(features, config)
     if isinstance(features, VectorFeatures):
         return VectorExperience(features, config)
     return FrameExperience(features, config)

@@ -17,8 +17,7 @@ import numpy as np
 import torch
 
 from agents.core.learner import DQNLearner
-from agents.core.policy import build_q_network
-from agents.core.replay import Batch
+from agents.core.policy import build_learner, build_q_network
 from agents.core.schedules import epsilon_at, learning_rate_at
 from agents.training import checkpoint as ckpt
 from agents.training.config import Config
@@ -83,9 +82,7 @@ def train(config: Config) -> Path:
         experience = make_experience(env, config)  # what the Q-network reads and the replay memory keeps
         specs, n_actions = experience.features.input_specs, int(env.action_space.n)
         q_network = build_q_network(config, specs, n_actions)
-        learner = DQNLearner(q_network, Batch(d.batch_size, specs), d.gamma, double=d.algorithm == "ddqn",
-                             loss=d.loss, max_grad_norm=d.max_grad_norm,
-                             learning_rate=config.schedule.learning_rate, device=config.run.device)
+        learner = build_learner(config, q_network, specs)  # DQN, or on sequences for a recurrent Q-network
         srl = experience.srl  # the camera's auto-encoder (None for state and pixel runs)
         rng = np.random.default_rng(config.seed)
         start_episode, global_step, wall_time = restore(resumed, learner, experience, rng) if resumed else (0, 0, 0.0)
@@ -124,15 +121,17 @@ def train(config: Config) -> Path:
 
             obs, _ = env.reset(seed=seed)
             x = experience.begin(obs)  # the Q-network's input (None until the auto-encoder's first update)
+            learner.reset()  # a recurrent Q-network's hidden state starts at zero
             if recording:
                 recorder.start_episode(env, episode)
             while True:
-                # epsilon-greedy action (the Q-values are computed for a recording too)
-                q_values = learner.q_values(x) if recording and acting else None
+                # epsilon-greedy action (the Q-values are computed for a recording too, and every step
+                # for a recurrent Q-network, whose hidden state follows the whole episode)
+                q_values = learner.q_values(x) if acting and (recording or learner.recurrent) else None
                 if not acting or rng.random() < epsilon:
                     action = int(rng.integers(n_actions))
                 else:
-                    action = int(np.argmax(q_values)) if recording else learner.act(x)
+                    action = int(np.argmax(q_values)) if q_values is not None else learner.act(x)
                 obs, reward, terminated, truncated, info = env.step(action)
                 reward, terminated = float(reward), bool(terminated)
                 # store the transition (s, a, r, s', terminated); x becomes the next input

@@ -45,11 +45,13 @@ class Args:
     """also open a Rerun viewer"""
 
 
-def record_episodes(env, recorder, episodes: int, seed: int, act=None, views=None) -> list[tuple[str, int]]:
+def record_episodes(env, recorder, episodes: int, seed: int, act=None, views=None,
+                    on_reset=None) -> list[tuple[str, int]]:
     """Roll out episodes on seeds seed, seed + 1, ..., logging every step; return (outcome, steps) per
-    episode. ``act(obs) -> (action, Q-values)`` (``agents.training.rollout.greedy``); None: random actions."""
+    episode. ``act(obs) -> (action, Q-values)`` (``agents.training.rollout.greedy``); None: random actions.
+    ``on_reset(obs)`` sees each episode's first observation (a trained policy's ``reset``)."""
     act = act or random_actions(int(env.action_space.n), np.random.default_rng(seed))
-    results = [rollout(env, seed + i, act, recorder=recorder, index=i, views=views) for i in range(episodes)]
+    results = [rollout(env, seed + i, act, on_reset, recorder=recorder, index=i, views=views) for i in range(episodes)]
     return [(e.outcome, e.length) for e in results]
 
 
@@ -63,16 +65,17 @@ def record(args: Args) -> list[tuple[str, int]]:
         policy = load_policy(args.checkpoint)
         task, env, views = policy.config.task, policy.env, policy.views
         recorder = open_recorder(args.out, task, spawn=args.spawn, required=True)
-        act = greedy(policy.q_values, int(env.action_space.n))
+        act, on_reset = greedy(policy.q_values, int(env.action_space.n)), lambda obs: policy.reset()
         print(f"{task}: greedy policy of {args.checkpoint}")
     else:
         dynnav_tasks.check_choice(args.task, dynnav_tasks.ALL_TASK_IDS, "task id")
         recorder = open_recorder(args.out, args.task, spawn=args.spawn, required=True)  # checks the path before any work
         obs_mode = args.obs_mode or ("rgb+state" if args.task in dynnav_tasks.VISUAL_TASK_IDS else "state")
         env, views, act = dynnav_tasks.NumpyWrapper(dynnav_tasks.make(args.task, obs_mode=obs_mode)), None, None
+        on_reset = None
     try:
         with recorder:
-            return record_episodes(env, recorder, args.episodes, args.seed, act, views)
+            return record_episodes(env, recorder, args.episodes, args.seed, act, views, on_reset)
     finally:
         env.close()
 

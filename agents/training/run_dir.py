@@ -20,7 +20,7 @@ METRICS = ["episode", "global_step", "return", "length", "success", "collision",
            "epsilon", "learning_rate", "steps_per_s", "wall_time_s"]
 FIXED_ON_RESUME = ("task", "reward_mode", "reward_params", "task_kwargs", "normalize_obs", "hidden_sizes", "q_network",
                    "buffer_size", "camera_frames", "camera_input", "camera_state", "ae_latent", "ae_conv_channels",
-                   "ae_dense")
+                   "ae_dense", "recurrent", "recurrent_size")
 """settings a resumed run must share with the checkpoint: they decide the task, the networks and the memory"""
 
 

@@ -52,6 +52,7 @@ def run_episodes(policy: Policy, episodes: int, seed: int, recorder=None, latent
         path, start = [], {}
 
         def on_reset(obs):
+            policy.reset()  # a recurrent Q-network starts the episode from a zero state
             if dynnav:  # the task's snapshot, whatever the observation holds
                 snapshot = env.unwrapped.snapshot
                 start["robot"], start["target"] = snapshot.robot_xy, np.array(snapshot.target_xy)
