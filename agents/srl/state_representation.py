@@ -151,6 +151,27 @@ class StateRepresentation:
         return dict(trainer=self.trainer.state_dict(), updates_done=self.updates_done,
                     mean=self.mean.copy(), std=self.std.copy(), spec=dataclasses.asdict(self.settings.spec))
 
+    def weights(self) -> dict[str, torch.Tensor]:
+        """What encoding needs, as tensors (a pretrained model's ``autoencoder.safetensors``): the
+        auto-encoder's weights under ``model.``, the latent standardisation as ``latent_mean`` and
+        ``latent_std``; no optimizer, so it cannot train on from these."""
+        out = {f"model.{k}": v for k, v in self.model.state_dict().items()}
+        out.update(latent_mean=torch.from_numpy(self.mean.copy()), latent_std=torch.from_numpy(self.std.copy()))
+        return out
+
+    def load_weights(self, tensors: dict[str, torch.Tensor]) -> None:
+        """Restore what ``weights`` gave (the auto-encoder counts as trained); ValueError if they
+        do not fit this auto-encoder."""
+        model = {k.removeprefix("model."): v for k, v in tensors.items() if k.startswith("model.")}
+        try:
+            self.model.load_state_dict(model)
+            self.mean[:], self.std[:] = tensors["latent_mean"].numpy(), tensors["latent_std"].numpy()
+        except (RuntimeError, KeyError, ValueError) as err:
+            raise ValueError(f"the auto-encoder weights do not fit this run's auto-encoder {self.settings.spec}: "
+                             f"{err}") from err
+        self.model.eval()
+        self.updates_done = max(self.updates_done, 1)
+
     def load_state_dict(self, state: dict) -> None:
         """Restore what ``state_dict`` saved."""
         spec = dict(state["spec"], conv_channels=tuple(state["spec"]["conv_channels"]))
