@@ -10,12 +10,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import torch
 
 from agents.dqn import main as dqn_main
 from agents.pretrained import available, card, load
 from agents.pretrained.catalogue import CELLS
 from agents.pretrained.cli import BUDGET_BYTES, list_models, total_size
 from agents.pretrained.export import export
+from agents.srl.state_representation import SRLSettings, StateRepresentation
 from agents.study.table import read_table
 from agents.training import pretrained_files as files
 from agents.training.config_io import make
@@ -43,8 +45,12 @@ def test_pretrained_model_keeps_its_success(name):
 
 
 def test_the_models_fit_their_budget_and_the_docs_table():
-    """All models together weigh at most 10 MB; docs/pretrained.md shows the table of their cards."""
+    """All models together weigh at most 10 MB, each is a cell of the catalogue trained as its run,
+    and docs/pretrained.md shows the table of their cards."""
     assert total_size(ROOT / "pretrained") <= BUDGET_BYTES
+    for name in REPOSITORY_MODELS:
+        facts = card.read(ROOT / "pretrained" / name)
+        assert name in CELLS and (facts["row"], facts["seed"]) == (CELLS[name].row, CELLS[name].seed), name
     page = (ROOT / "docs" / "pretrained.md").read_text(encoding="utf-8")
     shown = re.search(r"<!-- models -->\n(.*?)\n<!-- end models -->", page, re.DOTALL)
     assert shown, "docs/pretrained.md lacks the <!-- models --> ... <!-- end models --> block"
@@ -105,6 +111,30 @@ def test_export_and_load_round_trip(tiny_run, tmp_path, monkeypatch):
     record_main(Args(checkpoint="pretrained:tiny", episodes=1, out=tmp_path / "tiny.rrd"))
     assert (tmp_path / "tiny.rrd").stat().st_size > 0
     assert any(line.startswith("pretrained:tiny ") for line in list_models(models))
+
+
+def test_the_encoder_alone_encodes_as_the_trained_auto_encoder(tmp_path):
+    """A camera model keeps the encoder (at half precision) and the latent standardisation: its
+    latents are the trained ones to float16's precision; it cannot reconstruct, and a model of
+    another size is refused."""
+    settings = SRLSettings.from_config(make(task="DynNav-VisualStaticTarget-v1", camera_frames=1))
+    trained = StateRepresentation(settings, seed=1)
+    trained.mean[:], trained.std[:] = np.linspace(-1, 1, trained.latent_dim), np.linspace(0.5, 2, trained.latent_dim)
+    trained.updates_done = 1
+    files.write_model(tmp_path, {"bias": torch.zeros(3)}, {}, 1, autoencoder=trained.encoder_weights())
+    weights, _ = files.read_tensors(tmp_path / files.AUTOENCODER)
+    assert {v.dtype for k, v in weights.items() if k.startswith("encoder.")} == {files.ENCODER_DTYPE}
+    assert not any(k.startswith("decoder.") for k in weights)
+    loaded = StateRepresentation(settings, seed=2)
+    loaded.load_encoder_weights(weights)
+    frames = np.random.default_rng(0).integers(0, 256, (8, 32, 32, 3), dtype=np.uint8)
+    np.testing.assert_allclose(loaded.encode(frames), trained.encode(frames), atol=0.05)
+    assert loaded.trained and not loaded.can_reconstruct
+    with pytest.raises(ValueError, match="without its decoder"):
+        loaded.reconstruct(frames)
+    stacked = SRLSettings.from_config(make(task="DynNav-VisualMovingTargets-v1", camera_frames=4))
+    with pytest.raises(ValueError, match="do not fit"):
+        StateRepresentation(stacked, seed=1).load_encoder_weights(weights)
 
 
 def test_unknown_names_are_clear_errors(tiny_run, tmp_path, monkeypatch):

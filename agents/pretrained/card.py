@@ -33,7 +33,7 @@ def render(facts: dict) -> str:
 
 # Pretrained navigator `{facts['cell']}`
 
-The Q-network{' and the auto-encoder' if facts.get('autoencoder') else ''} of `{facts['row']}` \
+The Q-network{" and the auto-encoder's encoder" if facts.get('autoencoder') else ''} of `{facts['row']}` \
 seed {facts['seed']}, on `{facts['task']}`, after \
 {facts['trained_episodes']} training episodes. Its resolved config is `config.yaml` beside this card.
 

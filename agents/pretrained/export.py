@@ -61,7 +61,7 @@ def export(run_dir: str | Path, cell: str, episodes: int = 100, root: str | Path
         staging = Path(tempfile.mkdtemp(dir=root, prefix=".export-"))
         try:
             files.write_model(staging / cell, source.q_network.state_dict(), config, state["episode"],
-                              srl.weights() if srl is not None else None)
+                              srl.encoder_weights() if srl is not None else None)
         except BaseException:
             shutil.rmtree(staging, ignore_errors=True)
             raise

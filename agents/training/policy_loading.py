@@ -53,7 +53,7 @@ def policy_from_state(path: Path, state: dict, device: Optional[str] = None, **t
             if "srl" in state:
                 srl.load_state_dict(state["srl"])
             elif "autoencoder" in state:
-                srl.load_weights(state["autoencoder"])
+                srl.load_encoder_weights(state["autoencoder"])
             else:
                 raise ckpt.CheckpointError(f"{path}: the run reads the auto-encoder's latent, but no auto-encoder "
                                            f"was saved with it")

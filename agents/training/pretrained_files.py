@@ -4,10 +4,11 @@ models).
 
 A model's folder holds
 
-* ``model.safetensors``: the Q-network's weights (its ``state_dict``), and in the file's
-  metadata the format, its version and the number of training episodes;
+* ``model.safetensors``: the Q-network's weights (its ``state_dict``, float32), and in the
+  file's metadata the format, its version and the number of training episodes;
 * ``autoencoder.safetensors`` (camera runs with ``camera_input: latent``): the auto-encoder's
-  weights and the latent standardisation (``StateRepresentation.weights``);
+  encoder (float16; the decoder serves training and pictures only, and is left out) and the
+  latent standardisation (``StateRepresentation.encoder_weights``);
 * ``config.yaml``: the run's fully resolved config, from which the task, the features (the
   observation scaling is the task's, ``agents.training.envs.ObsScaler``) and the networks are
   built again;
@@ -35,6 +36,9 @@ PREFIX = "pretrained:"
 ROOT_VARIABLE = "DYNNAV_PRETRAINED"
 """environment variable naming the folder of models (default: pretrained/ of the repository)"""
 MODEL, AUTOENCODER, CONFIG, CARD = "model.safetensors", "autoencoder.safetensors", "config.yaml", "card.md"
+ENCODER_DTYPE = torch.float16
+"""the encoder's weights are stored at half precision (1.1-2.4 MB each instead of twice that: the 14
+models fit in 10 MB); they are read back into float32 and the card's test measures the model as read"""
 FORMAT, VERSION = "dynnav-pretrained", 1
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]*$")
 
@@ -95,11 +99,10 @@ def results_dir(name: str) -> Path:
 
 # ---------------------------------------------------------------------------------------- writing
 def tensor_file(tensors: dict[str, torch.Tensor], metadata: dict[str, str]) -> bytes:
-    """The bytes of a safetensors file holding ``tensors`` (float32, contiguous copies) and ``metadata``."""
+    """The bytes of a safetensors file holding ``tensors`` (contiguous CPU copies) and ``metadata``."""
     from safetensors.torch import save
 
-    plain = {k: v.detach().to("cpu", torch.float32 if v.is_floating_point() else v.dtype).contiguous().clone()
-             for k, v in tensors.items()}
+    plain = {k: v.detach().to("cpu").contiguous().clone() for k, v in tensors.items()}
     return save(plain, metadata={k: str(v) for k, v in metadata.items()})
 
 
@@ -112,8 +115,10 @@ def write_model(folder: str | Path, q_network: dict[str, torch.Tensor], config: 
     meta = dict(format=FORMAT, version=VERSION, trained_episodes=int(trained_episodes))
     atomic_write_bytes(folder / CONFIG, yaml.safe_dump(config, sort_keys=False).encode())
     if autoencoder is not None:
-        atomic_write_bytes(folder / AUTOENCODER, tensor_file(autoencoder, dict(meta, part="autoencoder")))
-    atomic_write_bytes(folder / MODEL, tensor_file(q_network, dict(meta, part="q_network")))
+        encoder = {k: v.to(ENCODER_DTYPE) if k.startswith("encoder.") else v.float() for k, v in autoencoder.items()}
+        atomic_write_bytes(folder / AUTOENCODER, tensor_file(encoder, dict(meta, part="encoder")))
+    atomic_write_bytes(folder / MODEL, tensor_file({k: v.float() for k, v in q_network.items()},
+                                                   dict(meta, part="q_network")))
 
 
 # ---------------------------------------------------------------------------------------- reading
