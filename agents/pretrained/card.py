@@ -27,6 +27,7 @@ def render(facts: dict) -> str:
     reproduce_in_one_go = (f", or train and export in one go with `python -m agents.pretrained train {facts['cell']}`"
                            if facts.get("table_success") is not None else "")
     rate = lambda x: "-" if x is None else f"{x:.0%}"  # noqa: E731
+    checked = min(CHECK_EPISODES, t["episodes"])
     return f"""---
 {front}
 ---
@@ -43,7 +44,7 @@ seed {facts['seed']}, on `{facts['task']}`, after \
 | success | {rate(t['success'])} |
 | collision | {rate(t['collision'])} |
 | timeout | {rate(t['timeout'])} |
-| success of the first {min(CHECK_EPISODES, t['episodes'])} (replayed by tests/test_pretrained.py) | {rate(t['success_first_check'])} |
+| success of the first {checked} (replayed by tests/test_pretrained.py) | {rate(t['success_first_check'])} |
 | the run table's success of the original run | {rate(facts['table_success'])} |
 
 Use it: `python -m agents.dqn --eval --checkpoint pretrained:{facts['cell']}`, or in Python

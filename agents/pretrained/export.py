@@ -74,7 +74,8 @@ def export(run_dir: str | Path, cell: str, episodes: int = 100, root: str | Path
     finally:
         shutil.rmtree(staging, ignore_errors=True)
     if verbose:
-        print(f"{root / cell}: {card.folder_size(root / cell) / 1e6:.2f} MB, test success {facts['test']['success']:.0%}")
+        size = card.folder_size(root / cell)
+        print(f"{root / cell}: {size / 1e6:.2f} MB, test success {facts['test']['success']:.0%}")
     return facts
 
 
