@@ -90,6 +90,8 @@ class StateRepresentation:
         self.updates_done = 0
         self.mean = np.zeros(settings.spec.latent, dtype=np.float32)
         self.std = np.ones(settings.spec.latent, dtype=np.float32)
+        self.can_reconstruct = True
+        """False when only the encoder was loaded (a pretrained model): no reconstructions"""
 
     @property
     def latent_dim(self) -> int:
@@ -110,7 +112,10 @@ class StateRepresentation:
         return ((self.model.encode(frames) - self.mean) / self.std).astype(np.float32)
 
     def reconstruct(self, frames: np.ndarray) -> np.ndarray:
-        """The auto-encoder's uint8 reconstructions of uint8 frames."""
+        """The auto-encoder's uint8 reconstructions of uint8 frames (ValueError without a decoder)."""
+        if not self.can_reconstruct:
+            raise ValueError("this auto-encoder was loaded without its decoder (a pretrained model): it encodes "
+                             "frames but cannot reconstruct them")
         return self.model.reconstruct(frames)
 
     def update(self, replay, rng: np.random.Generator, progress: bool = False) -> list[float]:
@@ -150,6 +155,28 @@ class StateRepresentation:
         """The auto-encoder, its optimizer and its update count, for a checkpoint."""
         return dict(trainer=self.trainer.state_dict(), updates_done=self.updates_done,
                     mean=self.mean.copy(), std=self.std.copy(), spec=dataclasses.asdict(self.settings.spec))
+
+    def encoder_weights(self) -> dict[str, torch.Tensor]:
+        """What encoding needs, as tensors (a pretrained model's ``autoencoder.safetensors``): the
+        encoder's weights under ``encoder.``, the latent standardisation as ``latent_mean`` and
+        ``latent_std``. No decoder and no optimizer: enough to act, not to reconstruct or train on."""
+        out = {f"encoder.{k}": v for k, v in self.model.encoder.state_dict().items()}
+        out.update(latent_mean=torch.from_numpy(self.mean.copy()), latent_std=torch.from_numpy(self.std.copy()))
+        return out
+
+    def load_encoder_weights(self, tensors: dict[str, torch.Tensor]) -> None:
+        """Restore what ``encoder_weights`` gave: the auto-encoder then encodes as trained, and
+        cannot reconstruct (``can_reconstruct`` False). ValueError if they do not fit this encoder."""
+        encoder = {k.removeprefix("encoder."): v for k, v in tensors.items() if k.startswith("encoder.")}
+        try:
+            self.model.encoder.load_state_dict(encoder)
+            self.mean[:], self.std[:] = tensors["latent_mean"].float().numpy(), tensors["latent_std"].float().numpy()
+        except (RuntimeError, KeyError, ValueError) as err:
+            raise ValueError(f"the encoder weights do not fit this run's auto-encoder {self.settings.spec}: "
+                             f"{err}") from err
+        self.model.eval()
+        self.updates_done = max(self.updates_done, 1)
+        self.can_reconstruct = False
 
     def load_state_dict(self, state: dict) -> None:
         """Restore what ``state_dict`` saved."""

@@ -222,7 +222,7 @@ class Config:
     eval: bool = False
     """test a checkpoint (--checkpoint) with its own settings instead of training"""
     checkpoint: Optional[str] = None
-    """checkpoint (or run directory) to test with --eval"""
+    """checkpoint (or run directory) to test with --eval, or pretrained:NAME (python -m agents.pretrained list)"""
     resume: Optional[str] = None
     """run directory of a stopped run to continue from its last checkpoint"""
     env: EnvConfig = field(default_factory=EnvConfig)

@@ -106,10 +106,13 @@ class LatentFeatures(CameraParts):
 
     def views(self, obs) -> dict:
         """The latent and the reconstruction of an observation's frame, for a recording (a stack of
-        gray frames shows its newest frame); empty before the auto-encoder's first update."""
+        gray frames shows its newest frame); empty before the auto-encoder's first update, the
+        latent alone for an encoder without its decoder (a pretrained model)."""
         if not self.srl.trained:
             return {}
         frame = self.split(obs)[0]
+        if not self.srl.can_reconstruct:
+            return dict(latent=self.srl.encode(frame))
         reconstruction = self.srl.reconstruct(frame)
         if reconstruction.shape[-1] != 3:
             reconstruction = reconstruction[..., -1]

@@ -3,6 +3,7 @@ trained agent's greedy policy with its Q-values.
 
     python -m agents.training.record --task DynNav-VisualStaticTarget-v1 --episodes 2 --out runs/visual.rrd
     python -m agents.training.record --checkpoint runs/<run> --episodes 5 --out runs/trained.rrd
+    python -m agents.training.record --checkpoint pretrained:5.3 --out runs/5.3.rrd   # a pretrained navigator
     rerun runs/visual.rrd        # open it (the viewer ships with rerun-sdk)
 
 Without ``--checkpoint`` the policy is random, and camera worlds record the camera frame too
@@ -31,8 +32,8 @@ class Args:
 
     task: str = "DynNav-MovingTarget-v1"
     """registered task id (see dynnav_tasks.TASK_IDS); with --checkpoint, the checkpoint's task is used"""
-    checkpoint: Optional[Path] = None
-    """an agents.dqn checkpoint (or run directory) whose greedy policy drives"""
+    checkpoint: Optional[str] = None
+    """an agents.dqn checkpoint (or run directory), or pretrained:NAME, whose greedy policy drives"""
     out: Optional[Path] = Path("dynnav.rrd")
     """Rerun file to write"""
     episodes: int = 2

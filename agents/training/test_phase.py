@@ -2,6 +2,7 @@
 episodes; success, collision and timeout rates, steps and SPL are reported (``agents.training.stats``).
 
     python -m agents.dqn --eval --checkpoint runs/<run> [--eval-episodes 100]
+    python -m agents.dqn --eval --checkpoint pretrained:5.3    # a pretrained navigator (results: runs/pretrained-5.3/)
 
 Test episode i is reset with seed ``eval_seed + i`` (default 1_000_000 + i), so every
 checkpoint is tested on the same episodes, none of which it was trained on (training episodes
@@ -25,9 +26,8 @@ import numpy as np
 
 from agents.core.policy import Policy
 from agents.files import atomic_write_bytes
-from agents.training import checkpoint as ckpt
 from agents.training.envs import is_dynnav
-from agents.training.policy_loading import load_policy
+from agents.training.policy_loading import load_policy, results_dir
 from agents.training.rollout import greedy, open_recorder, rollout
 from agents.training.run_lock import RunDirLock
 from agents.training.stats import spl, summarize
@@ -105,7 +105,7 @@ def evaluate_as_configured(config, checkpoint_path, out_dir=None, only_missing: 
     tests/<options>/ in it); ``only_missing``: skip the tests whose eval.json exists. ``kwargs`` go to ``evaluate`` (verbose, rerun, device)."""
     t = config.test
     extra = [parse_task_options(entry) for entry in t.also_test_on]  # errors before any test runs
-    run_dir = ckpt.resolve(checkpoint_path).parent
+    run_dir = results_dir(checkpoint_path)
     home = Path(out_dir) if out_dir is not None else run_dir  # the extra tests go to its tests/
     if out_dir is None and config.eval and t.eval_task_kwargs:
         out_dir = test_dir(run_dir, t.eval_task_kwargs)
@@ -134,7 +134,7 @@ def evaluate(checkpoint_path, episodes: int = 100, seed: int = 1_000_000, pictur
     policy = load_policy(checkpoint_path, device=device, **task_kwargs)
     try:
         recorder = open_recorder(rerun, policy.config.task)  # checks the recording path before any work
-        out_dir = Path(out_dir) if out_dir is not None else policy.path.parent
+        out_dir = Path(out_dir) if out_dir is not None else results_dir(checkpoint_path)
         out_dir.mkdir(parents=True, exist_ok=True)
         with RunDirLock(out_dir):  # not while another process writes there (e.g. still trains)
             return run_test_phase(policy, out_dir, episodes, seed, picture, verbose, recorder, epsilon, task_kwargs)

@@ -1,0 +1,71 @@
+"""Which run each pretrained navigator comes from: per numbered cell of the study, its best row
+(RESULTS.md, "The study's numbered cells") and, of that row's seeds in results/runs.csv.gz, the
+one with the best test success.
+
+The table is written out rather than derived: the run table grows, and a model stays what it
+was trained as (its card names the row and the seed). ``wall_s`` is the recorded training time
+of that run, which orders the training cheapest first.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+STUDY_CONFIGS = ROOT / "configs" / "study"
+
+
+@dataclass(frozen=True)
+class Source:
+    """The run a cell's model is trained as."""
+
+    row: str
+    """the experiment: configs/study/<row>.yaml"""
+    seed: int
+    """its seed with the best test success in the run table"""
+    success: float
+    """that run's test success in the run table (100 test episodes)"""
+    wall_s: float
+    """that run's recorded training time in seconds"""
+
+    @property
+    def config(self) -> Path:
+        """The experiment's config file."""
+        return STUDY_CONFIGS / f"{self.row}.yaml"
+
+    def command(self) -> str:
+        """The training command that reproduces the run."""
+        return (f"python -m agents.dqn --config configs/study/{self.row}.yaml --seed {self.seed} "
+                f"--runs-dir runs/pretrained --no-eval-after-training")
+
+
+CELLS: dict[str, Source] = {
+    "5.2": Source("5.2-turn-forward-ddqn-lr-decay-4000ep", 1, 1.00, 1253),
+    "5.3": Source("5.3-g0.1-two-states-ddqn-lr-decay-12000ep", 4, 0.99, 4330),
+    "5.3-orientation-always": Source("5.3-orientation-always-g0.1-two-states-ddqn-lr-decay-12000ep", 3, 0.96, 1121),
+    "5.3-potential-0.85": Source("5.3-potential-0.85-8000ep", 2, 0.96, 949),
+    "5.3-potential-0.9": Source("5.3-potential-0.9-ddqn-lr-decay-12000ep-hold-4000ep", 2, 0.99, 5980),
+    "5.3-potential-0.95": Source("5.3-potential-0.95-ddqn-lr-decay-8000ep", 3, 0.98, 816),
+    "5.3-potential-1.0": Source("5.3-potential-1.0", 1, 0.89, 397),
+    "5.5a-camera": Source("5.5a-camera-g0.1-turn-forward", 1, 0.94, 518),
+    "5.5b-laser-pos": Source("5.5b-laser-pos", 1, 1.00, 378),
+    "5.5b-camera-pos": Source("5.5b-camera-pos-rare-colours", 5, 0.77, 808),
+    "5.5b-laser-camera-pos": Source("5.5b-laser-camera-pos-g0.1-turn-forward", 2, 0.96, 895),
+    "5.5c-frames-1": Source("5.5c-frames-1-g0.1", 1, 0.78, 808),
+    "5.5c-frames-2": Source("5.5c-frames-2-g0.1", 4, 0.79, 1818),
+    "5.5c-frames-4": Source("5.5c-frames-4-g0.1", 2, 0.87, 786),
+}
+"""cell -> the run its model is trained as"""
+
+
+def source_of(cell: str) -> Source:
+    """The run of ``cell``; ValueError listing the cells for another name."""
+    if cell not in CELLS:
+        raise ValueError(f"{cell!r} is not a cell of the study with a pretrained model; the cells: {', '.join(CELLS)}")
+    return CELLS[cell]
+
+
+def cheapest_first(cells=None) -> list[str]:
+    """``cells`` (default: all) ordered by their run's recorded training time."""
+    return sorted(CELLS if cells is None else cells, key=lambda c: source_of(c).wall_s)
