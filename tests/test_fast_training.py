@@ -66,15 +66,15 @@ def test_shared_replay_memory_is_seen_by_another_process():
 
 
 def test_fast_mode_learns_the_demo(tmp_path):
-    """make demo's run (600 episodes, about 48,000 steps), tested on 50
-    episodes: at least 90% successes (seeds 1-5 gave 95-100% on 100)."""
+    """make demo's run (800 episodes, about 60,000 steps), tested on 50
+    episodes: at least 90% successes (seeds 1-5 gave 98-100% on 100)."""
     config = load_yaml("configs/demo.yaml")
     assert config.run.fast, "configs/demo.yaml trains in the fast mode"
     config = replace(config, run=replace(config.run, runs_dir=str(tmp_path), progress=False),
                      test=replace(config.test, eval_after_training=False)).validate()
     run_dir = train(config)
     rows = metrics(run_dir)
-    assert len(rows) == 600 and rows[-1]["loss"]
+    assert len(rows) == 800 and rows[-1]["loss"]
     summary = evaluate(run_dir, episodes=50, picture=False, verbose=False)
     assert summary["success_rate"] >= 0.9, summary
 
