@@ -28,17 +28,14 @@ from agents.core.frame_replay import FrameReplay
 from agents.core.networks import MLPQNetwork, q_values_of
 from agents.core.policy import build_q_network
 from agents.core.schedules import epsilon_at, learning_rate_at
-from agents.training import checkpoint as ckpt
 from agents.training.config import Config, check_fast
-from agents.training.config_io import config_from_dict, save_yaml
 from agents.training.envs import make_env_from
 from agents.training.experience import make_experience
 from agents.training.learner_process import LearnerProcess
 from agents.training.shared_replay import SharedFrameReplay, SharedReplayMemory
-from agents.training.loop import restore, save_checkpoint
+from agents.training.loop import load_resumed, open_run_dir, restore, save_checkpoint
 from agents.training.rollout import Episode
-from agents.training.run_dir import MetricsLog, check_resumable, episode_seed, new_run_dir
-from agents.training.run_lock import RunDirLock
+from agents.training.run_dir import episode_seed
 from agents.training.threads import limit_threads
 from dynnav_tasks.outcomes import outcome_of
 
@@ -73,11 +70,7 @@ def train_fast(config: Config) -> Path:
     check_fast(config)
     with contextlib.ExitStack() as cleanup:
         # --- checks: a resumed run's directory is locked first, so its checkpoint cannot change under us
-        if config.resume and Path(config.resume).is_dir():
-            cleanup.enter_context(RunDirLock(config.resume))
-        resumed = ckpt.load(config.resume) if config.resume else None
-        if resumed:
-            check_resumable(config, config_from_dict(resumed["config"], source=f"config in {config.resume}"))
+        resumed = load_resumed(config, cleanup)
 
         # --- environment, shared replay memory, the acting network and the learner process
         env = make_env_from(config)
@@ -92,15 +85,7 @@ def train_fast(config: Config) -> Path:
         start_episode, global_step, wall_time = restore(resumed, learner, experience, rng) if resumed else (0, 0, 0.0)
 
         # --- the run directory: only now that everything checked out
-        if config.resume:
-            run_dir = Path(config.resume)
-        else:
-            run_dir = new_run_dir(config)
-            cleanup.enter_context(RunDirLock(run_dir))
-        ckpt.clean_leftovers(run_dir)
-        save_yaml(config, run_dir / "config.yaml")
-        metrics = MetricsLog(run_dir / "metrics.csv", keep_episodes=start_episode if resumed else None)
-        cleanup.callback(metrics.close)
+        run_dir, metrics = open_run_dir(config, cleanup, start_episode if resumed else None)
         if resumed:
             print(f"resuming {run_dir} at episode {start_episode} (step {global_step})")
         bar = metrics.progress_bar(config, start_episode) if config.run.progress else None

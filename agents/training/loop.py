@@ -56,6 +56,34 @@ def restore(resumed: dict, learner: DQNLearner, experience, rng: np.random.Gener
     return resumed["episode"], resumed["global_step"], resumed["wall_time_s"]
 
 
+def load_resumed(config: Config, cleanup: contextlib.ExitStack) -> dict | None:
+    """The checkpoint ``config.resume`` names (None for a new run), its run directory locked
+    first (the lock released by ``cleanup``) so that it cannot change under us; ValueError if
+    the config cannot continue it."""
+    if config.resume and Path(config.resume).is_dir():
+        cleanup.enter_context(RunDirLock(config.resume))
+    resumed = ckpt.load(config.resume) if config.resume else None
+    if resumed:
+        check_resumable(config, config_from_dict(resumed["config"], source=f"config in {config.resume}"))
+    return resumed
+
+
+def open_run_dir(config: Config, cleanup: contextlib.ExitStack, keep_episodes: int | None) -> tuple[Path, MetricsLog]:
+    """The run directory (the resumed one, or a new one, locked) with its config.yaml written and
+    its metrics log open (keeping the first ``keep_episodes`` rows of a resumed run); call it only
+    once everything checked out."""
+    if config.resume:
+        run_dir = Path(config.resume)
+    else:
+        run_dir = new_run_dir(config)
+        cleanup.enter_context(RunDirLock(run_dir))
+    ckpt.clean_leftovers(run_dir)
+    save_yaml(config, run_dir / "config.yaml")  # a resumed run may have changed e.g. the episode count
+    metrics = MetricsLog(run_dir / "metrics.csv", keep_episodes=keep_episodes)
+    cleanup.callback(metrics.close)
+    return run_dir, metrics
+
+
 def train(config: Config) -> Path:
     """Train as ``config`` says (or continue ``config.resume``); return the run directory.
 
@@ -70,11 +98,7 @@ def train(config: Config) -> Path:
         recorder = open_recorder(config.run.rerun, config.task)
         if recorder is not None:
             cleanup.callback(recorder.close)
-        if config.resume and Path(config.resume).is_dir():
-            cleanup.enter_context(RunDirLock(config.resume))
-        resumed = ckpt.load(config.resume) if config.resume else None
-        if resumed:
-            check_resumable(config, config_from_dict(resumed["config"], source=f"config in {config.resume}"))
+        resumed = load_resumed(config, cleanup)
 
         # --- environment, replay memory, Q-network and its update
         env = make_env_from(config)
@@ -88,15 +112,7 @@ def train(config: Config) -> Path:
         start_episode, global_step, wall_time = restore(resumed, learner, experience, rng) if resumed else (0, 0, 0.0)
 
         # --- the run directory: only now that everything checked out
-        if config.resume:
-            run_dir = Path(config.resume)
-        else:
-            run_dir = new_run_dir(config)
-            cleanup.enter_context(RunDirLock(run_dir))
-        ckpt.clean_leftovers(run_dir)
-        save_yaml(config, run_dir / "config.yaml")  # a resumed run may have changed e.g. the episode count
-        metrics = MetricsLog(run_dir / "metrics.csv", keep_episodes=start_episode if resumed else None)
-        cleanup.callback(metrics.close)
+        run_dir, metrics = open_run_dir(config, cleanup, start_episode if resumed else None)
         if resumed:
             print(f"resuming {run_dir} at episode {start_episode} (step {global_step})")
         elif srl is not None:
