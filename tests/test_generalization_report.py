@@ -106,7 +106,7 @@ def test_the_generalization_section_sets_each_test_beside_the_planner(tmp_path):
     every = section(text, "Every experiment")
     assert "procedural-easy" not in every and MORE_BOXES not in every
     # 5.3's row holds its own tests only: 2 seeds, (90% + 80%) / 2
-    assert "| `5.3` | DynNav-MovingObstacles-v1 | 2 | 85% (" in line_starting(every, "| `5.3` |")
+    assert "| `5.3` | MovingObstacles | 2 | 85% (" in line_starting(every, "| `5.3` |")
     assert line_starting(every, "| `5.3` |").endswith("| 90% 80% |")
 
 

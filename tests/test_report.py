@@ -105,6 +105,27 @@ def test_a_rows_seeds_read_in_seed_order_and_one_seed_gets_a_wilson_interval():
     assert next(r for r in rows if r.startswith("| `5.3` |")).endswith("| 51% 52% 53% 54% 55% 56% 57% 58% 59% 60% |")
     # 90 of 100: Wilson 82.6-94.5%
     assert "| 1 | 90% (83%-94%, Wilson) |" in next(r for r in rows if r.startswith("| `5.3-one` |"))
+    # eleven seeds: their range and median (the sixth of 50%, 51%, ..., 60%), not every rate
+    text = render({"5.3": [_row("5.3", s, 0.49 + s / 100) for s in range(1, 12)]}).split("## Every experiment")[1]
+    assert next(r for r in text.splitlines() if r.startswith("| `5.3` |")).endswith("| 50%-60%, median 55% |")
+
+
+def test_rows_with_memory_stand_beside_the_feed_forward_row_the_study_and_the_ceiling():
+    camera = "DynNav-VisualMovingTargets-v1"
+    groups = {e: [_row(e, s + 1, r, camera) for s, r in enumerate(rates)]
+              for e, rates in {"5.5c-frames-4-g0.1": [0.80, 0.84], "5.5c-frames-4-g0.1-gru": [0.9, 0.92, 0.94],
+                               "5.5c-frames-4-g0.1-lstm": [0.5], "5.5c-frames-4-pixels": [0.1]}.items()}
+    groups["5.3-g0.1-gru"] = [_row("5.3-g0.1-gru", 1, 0.7)]  # its feed-forward row is not in the table
+    text = render(groups, ceilings={camera: 0.995})
+    section = text.split("## Memory")[1].split("\n## ")[0]
+    rows = [r for r in section.splitlines() if r.startswith("| `")]
+    assert rows == ["| `5.3-g0.1-gru` | 93% | not run | 1, 70.0% (60%-78%) | - |",
+                    "| `5.5c-frames-4-g0.1-gru` | 99% | 2, 82.0% | 3, 92.0% (87%-97%) | 99.5% |",
+                    "| `5.5c-frames-4-g0.1-lstm` | 99% | 2, 82.0% | 1, 50.0% (40%-60%) | 99.5% |"]
+    # a row with memory is a named variant of its cell like any other, and the best row of the cell
+    cells = text.split("## The study's numbered cells")[1].split("## Every experiment")[0]
+    assert "| `5.5c-frames-4` | 99% | `5.5c-frames-4-g0.1-gru` | 3 |" in cells
+    assert "## Memory" not in render(_groups(**{"5.3": [0.7, 0.8]}))
 
 
 def test_an_experiment_with_runs_of_two_configs_is_pointed_out():

@@ -4,7 +4,9 @@
   experiment and its named variants, beside the planner's ceiling;
 * the rows whose 95% interval over seeds is wider than MAX_WIDTH, with the seeds that would
   narrow it;
-* the configs with fewer than MIN_SEEDS runs in the table.
+* the configs with fewer than MIN_SEEDS runs in the table;
+* the rows with memory (a name ending in ``-gru`` or ``-lstm``: the recurrent Q-network of
+  docs/memory.md) beside the feed-forward row they extend and the ceiling.
 """
 
 from __future__ import annotations
@@ -23,6 +25,8 @@ MIN_SEEDS = 5
 """seeds a row needs before it can meet a cell of the study"""
 MAX_WIDTH = 0.20
 """a row whose 95% interval over seeds is wider than this is listed with the seeds it would need"""
+MEMORY_SUFFIXES = ("-gru", "-lstm")
+"""an experiment named ``<row><suffix>`` is ``<row>`` with a recurrent Q-network"""
 
 
 def t975(df: int) -> float:
@@ -139,6 +143,30 @@ def short_of_seeds(summaries: dict[str, dict], configs: dict[str, str]) -> list[
              f"Configs with fewer than {MIN_SEEDS} runs in the table (`python -m agents.study.sweep CONFIG "
              f"--seeds {MIN_SEEDS}` runs the missing ones and continues those in progress):", ""]
     return lines + [f"* `{p}`: {n} finished" for p, n in short]
+
+
+def memory_section(summaries: dict[str, dict], tasks: dict[str, str], ceilings: dict[str, float]) -> list[str]:
+    """The rows with memory: per experiment ``<row>-gru`` (or ``-lstm``), the study's number for its
+    cell, the feed-forward ``<row>``, the memory row and the planner's ceiling."""
+    rows = [e for e in summaries if e.endswith(MEMORY_SUFFIXES) and summaries[e]["seeds"]]
+    if not rows:
+        return []
+    lines = ["", "## Memory", "",
+             "Rows with a recurrent Q-network (`dqn.recurrent`, docs/memory.md), each beside the feed-forward row "
+             "it extends (its name without `-gru` or `-lstm`), the study's number and the ceiling.", "",
+             "| with memory | study | feed-forward: seeds, success | with memory: seeds, success (95% CI) | ceiling |",
+             "|---|---|---|---|---|"]
+    for e in rows:
+        base = e[:e.rindex("-")]
+        cell = cell_of(e)
+        target = study_rate(cell) if cell else None
+        ff = summaries.get(base)
+        ff_text = f"{ff['seeds']}, {ff['success']:.1%}" if ff and ff["seeds"] else "not run"
+        s = summaries[e]
+        lo, hi = s["ci"]
+        lines.append(f"| `{e}` | {'-' if target is None else f'{target:.0%}'} | {ff_text} | "
+                     f"{s['seeds']}, {s['success']:.1%} ({lo:.0%}-{hi:.0%}) | {format_ceiling(ceilings.get(tasks[e]))} |")
+    return lines
 
 
 def find_configs(paths: list[str | Path]) -> dict[str, str]:

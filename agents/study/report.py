@@ -15,6 +15,7 @@ its runs (one per seed):
   the first training episode at which the 100-episode success rate reaches 90% of its final
   value); "never" if a seed never got there.
 * wall-clock: mean per run of training time (summed over restarts) plus the test phase.
+* per seed: each seed's success rate; with more than MAX_LISTED_SEEDS seeds, their range and median.
 * ceiling: the success rate of ``dynnav_tasks.baselines.state_planner`` (a planner that sees the
   full state) on the experiment's task, from ``--ceilings`` (default docs/results/ceilings.json
   next to the report, written by ``python -m dynnav_tasks.baselines.state_planner --out ...``).
@@ -40,8 +41,8 @@ from pathlib import Path
 import numpy as np
 
 from agents.files import atomic_write_bytes
-from agents.study.cells import (cells_table, find_configs, format_ceiling, load_ceilings, short_of_seeds, study_rate,
-                                t975, wide_intervals)
+from agents.study.cells import (cells_table, find_configs, format_ceiling, load_ceilings, memory_section,
+                                short_of_seeds, study_rate, t975, wide_intervals)
 from agents.study.figures import block_size, caption, write_figures
 from agents.study.generalization import generalization_section, load_cells
 from agents.study.numbers import FIGURES, THESIS
@@ -88,8 +89,24 @@ def summarize(runs: list[dict]) -> dict:
     return out
 
 
+MAX_LISTED_SEEDS = 10
+"""rows with more seeds than this show their seeds' range and median, not every rate"""
+
+
 def _pct(x) -> str:
     return "-" if x is None else f"{x:.0%}"
+
+
+def _per_seed(rates: list[float]) -> str:
+    """Every seed's rate, or with more than MAX_LISTED_SEEDS seeds their range and median."""
+    if len(rates) <= MAX_LISTED_SEEDS:
+        return " ".join(_pct(x) for x in rates)
+    return f"{_pct(min(rates))}-{_pct(max(rates))}, median {_pct(float(np.median(rates)))}"
+
+
+def short_task(task: str) -> str:
+    """A task id without the suite's ``DynNav-`` and its version ``-v1`` (the table's header says so)."""
+    return task.removeprefix("DynNav-").removesuffix("-v1")
 
 
 def _experiment_row(name: str, task: str, s: dict, ceiling: str) -> str:
@@ -99,9 +116,9 @@ def _experiment_row(name: str, task: str, s: dict, ceiling: str) -> str:
     if s["converge"] is None and s["never"] < s["seeds"]:
         conv = f"never in {s['never']} of {s['seeds']}"
     steps = "-" if s["steps"] is None else format(s["steps"], ".1f")
-    return (f"| `{name}` | {task} | {s['seeds']} | {s['success']:.0%} ({lo:.0%}-{hi:.0%}, {s['ci_kind']}) | "
+    return (f"| `{name}` | {short_task(task)} | {s['seeds']} | {s['success']:.0%} ({lo:.0%}-{hi:.0%}, {s['ci_kind']}) | "
             f"{t.get('success', '-')} | {ceiling} | {steps} | {conv} (of {s['episodes']}) | {t.get('converge', '-')} | "
-            f"{s['wall']:.0f} s | {' '.join(_pct(x) for x in s['per_seed'])} |")
+            f"{s['wall']:.0f} s | {_per_seed(s['per_seed'])} |")
 
 
 def render(groups: dict[str, list[dict]], figures: list[tuple[str, str]] = (), table: str = "results/runs.csv.gz",
@@ -129,7 +146,7 @@ def render(groups: dict[str, list[dict]], figures: list[tuple[str, str]] = (), t
     lines.append("")
     if any(study_rate(e) is not None for e in THESIS):
         lines += cells_table(summaries, tasks, ceilings) + ["", "## Every experiment", ""]
-    lines += ["| experiment | task | seeds | success (95% CI) | study | ceiling | steps | converge (episodes) | study | "
+    lines += ["| experiment | task (DynNav-...-v1) | seeds | success (95% CI) | study | ceiling | steps | converge (episodes) | study | "
               "wall-clock | per seed |",
               "|---|---|---|---|---|---|---|---|---|---|---|"]
     lines += [_experiment_row(e, tasks[e], summaries[e], format_ceiling(ceilings.get(tasks[e]))) for e in order]
@@ -145,6 +162,7 @@ def render(groups: dict[str, list[dict]], figures: list[tuple[str, str]] = (), t
         lines += ["", "Experiments whose runs were made with more than one config (the config was edited "
                   "between them; their rows mix both): " + ", ".join(
                       f"`{e}` ({', '.join(sorted({r['config_hash'] for r in groups[e]}))})" for e in mixed) + "."]
+    lines += memory_section(summaries, tasks, ceilings)
     lines += wide_intervals(summaries)
     lines += short_of_seeds(summaries, configs or {})
     lines += list(generalization)
