@@ -3,7 +3,9 @@
 one with the best test success.
 
 The table is written out rather than derived: the run table grows, and a model stays what it
-was trained as (its card names the row and the seed). ``wall_s`` is the recorded training time
+was trained as (its card names the row and the seed). One cell takes its row's second-best seed:
+5.3-potential-0.85's seed 2 (96% in the table), retrained with today's code, reached 4% on the
+test episodes (22% training success in its last 500 episodes), so its model is seed 1's. ``wall_s`` is the recorded training time
 of that run, which orders the training cheapest first.
 """
 
@@ -44,7 +46,7 @@ CELLS: dict[str, Source] = {
     "5.2": Source("5.2-turn-forward-ddqn-lr-decay-4000ep", 1, 1.00, 1253),
     "5.3": Source("5.3-g0.1-two-states-ddqn-lr-decay-12000ep", 4, 0.99, 4330),
     "5.3-orientation-always": Source("5.3-orientation-always-g0.1-two-states-ddqn-lr-decay-12000ep", 3, 0.96, 1121),
-    "5.3-potential-0.85": Source("5.3-potential-0.85-8000ep", 2, 0.96, 949),
+    "5.3-potential-0.85": Source("5.3-potential-0.85-8000ep", 1, 0.93, 1259),  # seed 2 retrained: 4%
     "5.3-potential-0.9": Source("5.3-potential-0.9-ddqn-lr-decay-12000ep-hold-4000ep", 2, 0.99, 5980),
     "5.3-potential-0.95": Source("5.3-potential-0.95-ddqn-lr-decay-8000ep", 3, 0.98, 816),
     "5.3-potential-1.0": Source("5.3-potential-1.0", 1, 0.89, 397),
