@@ -3,10 +3,12 @@
 one with the best test success.
 
 The table is written out rather than derived: the run table grows, and a model stays what it
-was trained as (its card names the row and the seed). One cell takes its row's second-best seed:
-5.3-potential-0.85's seed 2 (96% in the table), retrained with today's code, reached 4% on the
-test episodes (22% training success in its last 500 episodes), so its model is seed 1's. ``wall_s`` is the recorded training time
+was trained as (its card names the row and the seed). ``wall_s`` is the recorded training time
 of that run, which orders the training cheapest first.
+
+One cell takes its row's second-best seed: 5.3-potential-0.85's seed 2 (96% in the table),
+retrained with today's code, reached 4% on the test episodes (22% training success in its last
+500 episodes), so its model is seed 1's.
 """
 
 from __future__ import annotations
