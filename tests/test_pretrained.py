@@ -113,6 +113,27 @@ def test_export_and_load_round_trip(tiny_run, tmp_path, monkeypatch):
     assert any(line.startswith("pretrained:tiny ") for line in list_models(models))
 
 
+def test_a_model_with_memory_remembers_within_an_episode_and_forgets_at_reset(tmp_path):
+    """An exported recurrent run keeps its GRU: the navigator's Q-values for one observation change
+    as it remembers, ``reset`` starts it again from the first step's values, and they are the run's."""
+    config = make(task="DynNav-MovingTarget-v1", episodes=3, recurrent="gru", recurrent_size=16, hidden_sizes=(32,),
+                  sequence_length=8, burn_in=4, batch_size=8, learning_starts=50, name="tiny-gru",
+                  runs_dir=str(tmp_path / "runs"), progress=False, eval_after_training=False, seed=2).validate()
+    run = train(config)
+    models = tmp_path / "models"
+    export(run, "tiny-gru", episodes=2, root=models, verbose=False)
+    source = load_policy(run)
+    with load("tiny-gru", root=models) as navigator:
+        obs, _ = navigator.env.reset(seed=5)
+        source.reset()
+        navigator.reset()
+        first = navigator.q_values(obs)
+        np.testing.assert_array_equal(first, source.q_values(obs))
+        assert not np.allclose(navigator.q_values(obs), first)  # the same observation, one step later
+        navigator.reset()
+        np.testing.assert_array_equal(navigator.q_values(obs), first)
+    source.env.close()
+
 def test_the_encoder_alone_encodes_as_the_trained_auto_encoder(tmp_path):
     """A camera model keeps the encoder (at half precision) and the latent standardisation: its
     latents are the trained ones to float16's precision; it cannot reconstruct, and a model of

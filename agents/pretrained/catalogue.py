@@ -9,6 +9,10 @@ of that run, which orders the training cheapest first.
 One cell takes its row's second-best seed: 5.3-potential-0.85's seed 2 (96% in the table),
 retrained with today's code, reached 4% on the test episodes (22% training success in its last
 500 episodes), so its model is seed 1's.
+
+The three cells whose best row has memory (5.5a-camera, 5.5b-laser-camera-pos, 5.5c-frames-4: rows
+ending in ``-gru``) were exported from the memory sweep's own runs (agents/study/REPRODUCE.md), so
+their cards test the very networks of the table's rows.
 """
 
 from __future__ import annotations
@@ -52,13 +56,13 @@ CELLS: dict[str, Source] = {
     "5.3-potential-0.9": Source("5.3-potential-0.9-ddqn-lr-decay-12000ep-hold-4000ep", 2, 0.99, 5980),
     "5.3-potential-0.95": Source("5.3-potential-0.95-ddqn-lr-decay-8000ep", 3, 0.98, 816),
     "5.3-potential-1.0": Source("5.3-potential-1.0", 1, 0.89, 397),
-    "5.5a-camera": Source("5.5a-camera-g0.1-turn-forward", 1, 0.94, 518),
+    "5.5a-camera": Source("5.5a-camera-g0.1-turn-forward-gru", 2, 0.97, 1382),
     "5.5b-laser-pos": Source("5.5b-laser-pos", 1, 1.00, 378),
     "5.5b-camera-pos": Source("5.5b-camera-pos-rare-colours", 5, 0.77, 808),
-    "5.5b-laser-camera-pos": Source("5.5b-laser-camera-pos-g0.1-turn-forward", 2, 0.96, 895),
+    "5.5b-laser-camera-pos": Source("5.5b-laser-camera-pos-g0.1-turn-forward-gru", 2, 1.00, 1088),
     "5.5c-frames-1": Source("5.5c-frames-1-g0.1", 1, 0.78, 808),
     "5.5c-frames-2": Source("5.5c-frames-2-g0.1", 4, 0.79, 1818),
-    "5.5c-frames-4": Source("5.5c-frames-4-g0.1", 2, 0.87, 786),
+    "5.5c-frames-4": Source("5.5c-frames-4-g0.1-gru", 3, 0.93, 1747),
 }
 """cell -> the run its model is trained as"""
 

@@ -4,6 +4,7 @@
 
     with load("5.5b-laser-pos") as navigator:
         obs, _ = navigator.env.reset(seed=0)
+        navigator.reset()  # a model with memory starts each episode from a zero hidden state
         obs, reward, terminated, truncated, info = navigator.env.step(navigator.act(obs))
 """
 
@@ -38,8 +39,14 @@ class Navigator:
         """The model's task, made with its config (a gymnasium env: numpy observations)."""
         return self.policy.env
 
+    def reset(self) -> None:
+        """Start the next episode: a model with memory (a recurrent Q-network) forgets the last one.
+        Call it after each ``env.reset``; a model without memory is unaffected."""
+        self.policy.reset()
+
     def q_values(self, obs) -> np.ndarray:
-        """The Q-values of an observation of ``env``, one per action."""
+        """The Q-values of an observation of ``env``, one per action (a model with memory also
+        remembers the observation)."""
         return self.policy.q_values(obs)
 
     def act(self, obs) -> int:
