@@ -134,6 +134,7 @@ def test_a_model_with_memory_remembers_within_an_episode_and_forgets_at_reset(tm
         np.testing.assert_array_equal(navigator.q_values(obs), first)
     source.env.close()
 
+
 def test_the_encoder_alone_encodes_as_the_trained_auto_encoder(tmp_path):
     """A camera model keeps the encoder (at half precision) and the latent standardisation: its
     latents are the trained ones to float16's precision; it cannot reconstruct, and a model of
