@@ -15,6 +15,10 @@ part                  meaning
 ``target`` (3)        distance to the target's centre (m), sin and cos of its bearing (the
                       bearing is the ``StepSnapshot``'s: > 0 to the left; sin/cos has no
                       jump at +-pi)
+``way`` (3)           only with the task's ``way=True``: the length of the way to the target
+                      through the static layout (m) and the sin and cos of the bearing of
+                      the point 0.5 m along it (``way_sense.py``: the map and a global
+                      planner, no moving obstacle)
 ``obstacle{i}`` (5)   for i < k, the i-th nearest moving obstacle (by squared centre
                       distance, ties in the world's order): x, y of its centre relative to the robot (m),
                       vx, vy of its velocity relative to the robot over the last step (m per
@@ -48,30 +52,36 @@ PADDING = np.array([FAR, 0.0, 0.0, 0.0, 0.0], dtype=np.float32)
 """the fields of an empty obstacle slot"""
 
 
-def egocentric_layout(num_lasers: int, k: int) -> list[tuple[str, int]]:
-    """Names and sizes of the egocentric state's parts, in order."""
-    return [("lasers", num_lasers), ("target", 3)] + [(f"obstacle{i}", len(OBSTACLE_FIELDS)) for i in range(k)]
+def egocentric_layout(num_lasers: int, k: int, way: bool = False) -> list[tuple[str, int]]:
+    """Names and sizes of the egocentric state's parts, in order (``way``: with the way part)."""
+    return ([("lasers", num_lasers), ("target", 3)] + ([("way", 3)] if way else [])
+            + [(f"obstacle{i}", len(OBSTACLE_FIELDS)) for i in range(k)])
 
 
-def egocentric_space(num_lasers: int, laser_range: float, k: int) -> gym.spaces.Box:
+def egocentric_space(num_lasers: int, laser_range: float, k: int, way: bool = False) -> gym.spaces.Box:
     """The egocentric state's observation space (bounds as the module docstring gives)."""
     slot_low = [-FAR, -FAR, -MAX_RELATIVE_STEP, -MAX_RELATIVE_STEP, 0.0]
     slot_high = [FAR, FAR, MAX_RELATIVE_STEP, MAX_RELATIVE_STEP, 1.0]
-    low = np.array([0.0] * num_lasers + [0.0, -1.0, -1.0] + slot_low * k, dtype=np.float32)
-    high = np.array([laser_range] * num_lasers + [FAR, 1.0, 1.0] + slot_high * k, dtype=np.float32)
+    heading_low, heading_high = [0.0, -1.0, -1.0], [FAR, 1.0, 1.0]  # a distance, then a sin and a cos
+    low = np.array([0.0] * num_lasers + heading_low * (2 if way else 1) + slot_low * k, dtype=np.float32)
+    high = np.array([laser_range] * num_lasers + heading_high * (2 if way else 1) + slot_high * k, dtype=np.float32)
     return gym.spaces.Box(low, high, dtype=np.float32)
 
 
-def egocentric_state(snapshot: StepSnapshot, before: StepSnapshot | None, k: int) -> np.ndarray:
+def egocentric_state(snapshot: StepSnapshot, before: StepSnapshot | None, k: int,
+                     way: tuple[float, float, float] | None = None) -> np.ndarray:
     """The egocentric state of ``snapshot`` (module docstring); ``before``: the snapshot
-    before the step that led to it (``None`` after a reset or a placement: velocities 0).
+    before the step that led to it (``None`` after a reset or a placement: velocities 0);
+    ``way``: the ``WaySense`` reading (length, sin, cos) for the ``way`` part, None without it.
     Plain Python over the few obstacles: faster than numpy at these sizes."""
     x, y, yaw = snapshot.pose
     n = len(snapshot.lasers)
-    out = np.empty(n + 3 + len(PADDING) * k, dtype=np.float32)
+    out = np.empty(n + 3 + (3 if way is not None else 0) + len(PADDING) * k, dtype=np.float32)
     out[:n] = snapshot.lasers
     bearing = snapshot.bearing
     tail = [min(snapshot.d1, FAR), math.sin(bearing), math.cos(bearing)]
+    if way is not None:
+        tail += [min(way[0], FAR), way[1], way[2]]
     if k:
         tail += _nearest_obstacles(snapshot, before, k, x, y, yaw)
     out[n:] = tail

@@ -54,6 +54,14 @@ def _make_plain(task_id: str, kwargs: dict) -> gym.Env:
     return NumpyWrapper(gym.make(task_id, **kwargs))
 
 
+def make_plain_task(task_id: str, **kwargs) -> gym.Env:
+    """The plain gymnasium env of a task (``NumpyWrapper``: numpy, unbatched), for a spec whose
+    entry point must be a string (``"dynnav_tasks.registration:make_plain_task"`` with
+    ``task_id`` in its kwargs), such as a Minari data set's. (Importing this module imports
+    ``dynnav_tasks``, which registers the tasks, so a fresh process can make one from the string.)"""
+    return _make_plain(task_id, kwargs)
+
+
 def register_with_gymnasium(task_ids) -> None:
     """(Re-)register ``task_ids`` with gymnasium as the module docstring describes."""
     for task_id in task_ids:

@@ -114,10 +114,24 @@ def test_a_run_writes_its_fully_resolved_config(tmp_path):
     assert load_yaml(run / "config.yaml") == dataclasses.replace(config, config=None)  # reads back the same
 
 
-@pytest.mark.parametrize("path", sorted(CONFIGS.rglob("*.yaml")), ids=lambda p: str(p.relative_to(CONFIGS)))
+IMITATION = sorted((CONFIGS / "imitation").glob("*.yaml"))
+"""agents.imitation's settings (each names a training config as its student)"""
+
+
+@pytest.mark.parametrize("path", sorted(set(CONFIGS.rglob("*.yaml")) - set(IMITATION)),
+                         ids=lambda p: str(p.relative_to(CONFIGS)))
 def test_every_config_file_loads_and_validates(path):
     config = load_yaml(path).validate()
     assert config.description and "\n" not in config.description
+
+
+@pytest.mark.parametrize("path", IMITATION, ids=lambda p: p.name)
+def test_every_imitation_config_loads_and_names_a_valid_student(path):
+    from agents.imitation.config import ImitationConfig, load_yaml as load_imitation
+
+    assert yaml.safe_load(path.read_text())["description"]
+    cfg = ImitationConfig(**load_imitation(path)).validate()
+    load_yaml(cfg.student).validate()
 
 
 def test_every_study_experiment_has_a_one_line_description_and_differs_from_its_base():

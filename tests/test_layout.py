@@ -11,7 +11,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGES = ("agents", "dynnav_tasks")
-ABOVE_CORE = ("agents.training", "agents.study", "agents.analysis")
+ABOVE_CORE = ("agents.training", "agents.study", "agents.analysis", "agents.imitation")
 """what agents.core must not import: the layers that use it"""
 
 
@@ -115,3 +115,10 @@ def test_no_import_circle():
 def test_the_learning_core_imports_nothing_above_it(module):
     above = sorted(m for m in import_graph()[module] if m.startswith(ABOVE_CORE))
     assert not above, f"{module} imports {', '.join(above)}: agents.core must not depend on the training driver"
+
+
+@pytest.mark.parametrize("module", sorted(m for m in import_graph() if not m.startswith("agents.imitation")))
+def test_nothing_imports_the_imitation_room(module):
+    """Its students are DQN checkpoints and its data a file: the rest reads them without importing it."""
+    inside = sorted(m for m in import_graph()[module] if m.startswith("agents.imitation"))
+    assert not inside, f"{module} imports {', '.join(inside)}"

@@ -8,7 +8,12 @@ makes one gradient step on a minibatch:
     loss = mean of (Q(s, a) - y)^2  (mse)   or   smooth L1 with beta 1  (huber)
 
 then optional clipping of the gradient's global norm and one Adam step (torch's fused Adam on the
-CPU). The target network is copied every C steps (``update_target()``) or moved by ``tau``
+CPU). With ``margin_weight`` > 0 (learning from demonstrations, DQfD) the loss adds, over the
+minibatch rows that carry a teacher's label a_E (``Batch.labels`` >= 0), the large-margin loss
+
+    margin_weight * mean of [ max_a (Q(s, a) + margin * [a != a_E]) - Q(s, a_E) ]
+
+which is 0 once Q(s, a_E) leads every other action by ``margin``. The target network is copied every C steps (``update_target()``) or moved by ``tau``
 (``update_target(tau)``).
 A module takes the observation's inputs (one tensor for a state vector; frames and state parts
 for pixel runs), each with a leading batch dimension, and returns (batch, actions).
@@ -47,7 +52,7 @@ class DQNLearner:
 
     def __init__(self, q_network: nn.Module, batch: Batch, gamma: float = 0.97, double: bool = False,
                  loss: str = "mse", max_grad_norm: float = 0.0, learning_rate: float = 1e-3,
-                 device: str = "cpu"):
+                 device: str = "cpu", margin_weight: float = 0.0, margin: float = 0.8):
         if loss not in LOSSES:
             raise ValueError(f"unknown loss {loss!r}; valid losses: {', '.join(LOSSES)}")
         self.device = torch.device(device)
@@ -56,6 +61,7 @@ class DQNLearner:
         self.optimizer = make_adam(self.q, learning_rate)
         self.gamma, self.double, self.loss, self.max_grad_norm = gamma, double, loss, max_grad_norm
         self.batch = batch
+        self.margin_weight, self.margin = float(margin_weight), float(margin)
 
     @property
     def learning_rate(self) -> float:
@@ -127,8 +133,19 @@ class DQNLearner:
             self.q.train()
             self.target.train()
         y = self.td_target(next_obs, rewards, not_done)
-        q = self.q(*obs).gather(1, actions[:, None]).squeeze(1)
-        return self.step(self.td_loss(q, y))
+        q_all = self.q(*obs)
+        loss = self.td_loss(q_all.gather(1, actions[:, None]).squeeze(1), y)
+        if self.margin_weight > 0:
+            loss = loss + self.margin_weight * self.margin_loss(q_all, self.batch.labels_t.to(self.device))
+        return self.step(loss)
+
+    def margin_loss(self, q_all: torch.Tensor, labels: torch.Tensor) -> torch.Tensor:
+        """DQfD's large-margin loss (module docstring), averaged over the rows with a label (0 if none)."""
+        labelled = (labels >= 0).float()
+        expert = labels.clamp(min=0)[:, None]
+        margins = torch.full_like(q_all, self.margin).scatter_(1, expert, 0.0)
+        each = (q_all + margins).max(1).values - q_all.gather(1, expert).squeeze(1)
+        return (each * labelled).sum() / labelled.sum().clamp(min=1.0)
 
     def update_target(self, tau: float = 1.0) -> None:
         """Hard copy (tau = 1) or soft update theta- <- tau theta + (1 - tau) theta-."""

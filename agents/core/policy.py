@@ -51,9 +51,11 @@ def build_learner(config, q_network: nn.Module, input_specs) -> DQNLearner:
     settings = dict(gamma=d.gamma, double=d.algorithm == "ddqn", loss=d.loss, max_grad_norm=d.max_grad_norm,
                     learning_rate=config.schedule.learning_rate, device=config.run.device)
     if d.recurrent:
-        batch = SequenceBatch(d.batch_size, d.sequence_length, d.burn_in, input_specs[0][0][0])
-        return RecurrentLearner(q_network, batch, **settings)
-    return DQNLearner(q_network, Batch(d.batch_size, input_specs), **settings)
+        return RecurrentLearner(q_network, SequenceBatch(d.batch_size, d.sequence_length, d.burn_in,
+                                                         input_specs[0][0][0]), **settings)
+    t = config.demos  # the large-margin loss on a teacher's labels (DQfD), when its demonstrations are kept
+    margin = dict(margin_weight=t.margin_weight, margin=t.margin) if t.demonstrations else {}
+    return DQNLearner(q_network, Batch(d.batch_size, input_specs), **settings, **margin)
 
 
 @dataclass

@@ -32,6 +32,10 @@ class Batch:
         self.actions, self.rewards = self.actions_t.numpy(), self.rewards_t.numpy()
         self.not_done = self.not_done_t.numpy()
         """1 - terminated: a truncated (timed-out) transition still bootstraps"""
+        self.labels_t = torch.full((self.size,), -1, dtype=torch.int64)
+        self.labels = self.labels_t.numpy()
+        """a teacher's action for the rows drawn from demonstrations (``demo_replay.DemoReplay``), -1
+        for the others; only a learner with a ``margin_weight`` reads them"""
 
 
 class ReplayMemory:

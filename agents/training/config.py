@@ -152,6 +152,27 @@ class CameraConfig:
 
 
 @dataclass
+class DemoConfig:
+    """Learning beside a teacher (agents.imitation): start from its student, keep its demonstrations (DQfD)."""
+
+    init_from: Optional[str] = None
+    """a run directory or checkpoint whose Q-network this run starts from (online and target), e.g. an
+    agents.imitation run's cloned student; its network must be this run's"""
+    demonstrations: Optional[str] = None
+    """an agents.imitation run directory: its labelled episodes (demonstrations.npz) stay in the replay
+    for the whole run and fill demo_share of every minibatch, with the large-margin loss on their
+    labels (DQfD, Hester et al. 2018); they must come from this run's task, observation and reward"""
+    demo_share: float = 0.25
+    """share of each minibatch drawn from the demonstrations"""
+    margin_weight: float = 1.0
+    """weight of the large-margin loss on the demonstrations' rows (0: the TD loss only)"""
+    margin: float = 0.8
+    """how far Q(s, teacher's action) should lead every other action's Q-value"""
+    pretrain_updates: int = 0
+    """updates on the demonstrations alone before the first episode (DQfD's pre-training)"""
+
+
+@dataclass
 class TestConfig:
     """The test phase (after training, or of a checkpoint with --eval)."""
 
@@ -233,6 +254,8 @@ class Config:
     """exploration and learning rate per episode"""
     camera: CameraConfig = field(default_factory=CameraConfig)
     """camera runs"""
+    demos: DemoConfig = field(default_factory=DemoConfig)
+    """learning beside a teacher"""
     test: TestConfig = field(default_factory=TestConfig)
     """the test phase"""
     run: RunConfig = field(default_factory=RunConfig)
@@ -245,7 +268,7 @@ class Config:
 
 
 GROUPS = {"env": EnvConfig, "dqn": DQNConfig, "schedule": ScheduleConfig, "camera": CameraConfig,
-          "test": TestConfig, "run": RunConfig}
+          "demos": DemoConfig, "test": TestConfig, "run": RunConfig}
 MODE_FIELDS = ("config", "eval", "checkpoint", "resume")
 """top-level fields that choose what a command does; not written to a run's config.yaml"""
 GROUP_OF = {f.name: group for group, cls in GROUPS.items() for f in dataclasses.fields(cls)}
@@ -263,7 +286,7 @@ POSITIVE = ["episodes", "checkpoint_every", "batch_size", "buffer_size", "train_
             "eval_episodes", "lr_decay_episodes", "rerun_every", "ae_dense", "ae_update_every", "ae_batch_size",
             "ae_pictures_every", "state_frames", "fast_sync_steps"]
 NOT_NEGATIVE = ["learning_starts", "random_episodes", "epsilon_decay_episodes", "camera_frames", "ae_latent",
-                "ae_first_update", "ae_updates", "ae_iterations", "ae_batches", "pixel_shift"]
+                "ae_first_update", "ae_updates", "ae_iterations", "ae_batches", "pixel_shift", "pretrain_updates"]
 
 
 def validate(c: Config) -> None:
@@ -291,6 +314,9 @@ def validate(c: Config) -> None:
         "ae_learning_rate": cam.ae_learning_rate > 0,
         "ae_rare_colour_power": 0.0 <= cam.ae_rare_colour_power <= 2.0,
         "ae_conv_channels": len(cam.ae_conv_channels) in (0, 2) and all(v > 0 for v in cam.ae_conv_channels),
+        "demo_share": 0.0 < c.demos.demo_share <= 1.0,
+        "margin_weight": c.demos.margin_weight >= 0,
+        "margin": c.demos.margin >= 0,
     }
     for name, ok in checks.items():
         if not ok:
@@ -315,6 +341,7 @@ def validate(c: Config) -> None:
     if c.run.fast and not c.eval:
         check_fast(c)
     validate_memory(c)
+    validate_demos(c)
     check_device(c.run.device)
     if c.eval and not c.checkpoint:
         raise ValueError("--eval needs --checkpoint <checkpoint or run directory>")
@@ -348,6 +375,17 @@ def validate_memory(c: Config) -> None:
     if c.camera.camera_frames and c.camera.camera_input == "pixels":
         raise ValueError(f"recurrent {d.recurrent!r} reads vectors (the state, or the auto-encoder's latent "
                          f"beside state parts); with camera_input pixels use camera_input latent")
+
+
+def validate_demos(c: Config) -> None:
+    """ValueError if the teacher's settings (``demos``) clash with the run's."""
+    t = c.demos
+    if t.pretrain_updates and not t.demonstrations:
+        raise ValueError("pretrain_updates trains on demonstrations before the first episode: set demonstrations "
+                         "(an agents.imitation run directory) too")
+    if (t.init_from or t.demonstrations) and (c.dqn.recurrent or c.camera.camera_frames or c.env.state_frames != 1):
+        raise ValueError("init_from and demonstrations start from a student that reads one state vector: not with "
+                         "recurrent, camera_frames or state_frames > 1")
 
 
 def check_device(device: str) -> None:

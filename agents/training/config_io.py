@@ -10,7 +10,7 @@ writes only what differs. The base is read first (it may name a base of its own)
 file's values are laid over it:
 
 * a top-level field (``task``, ``episodes`` ...) replaces the base's;
-* a group (``env:``, ``dqn:``, ``schedule:``, ``camera:``, ``test:``, ``run:``) is merged key by
+* a group (``env:``, ``dqn:``, ``schedule:``, ``camera:``, ``demos:``, ``test:``, ``run:``) is merged key by
   key: ``schedule: {learning_rate: 0.001}`` changes the learning rate and keeps the base's
   other schedule settings;
 * inside ``env:``, ``reward_params`` and ``task_kwargs`` are merged key by key too:

@@ -36,6 +36,7 @@ from agents.training.shared_replay import SharedFrameReplay, SharedReplayMemory
 from agents.training.loop import load_resumed, open_run_dir, restore, save_checkpoint
 from agents.training.rollout import Episode
 from agents.training.run_dir import episode_seed
+from agents.training.teacher import load_demonstrations, start_weights
 from agents.training.threads import limit_threads
 from dynnav_tasks.outcomes import outcome_of
 
@@ -80,7 +81,9 @@ def train_fast(config: Config) -> Path:
         experience.memory = shared_memory_for(experience, config)  # the learner samples from it
         actor = build_q_network(config, specs, n_actions)  # the learner's initial weights: same seed
         act = greedy_action(actor)
-        learner = cleanup.enter_context(LearnerProcess(config, specs, n_actions, experience.memory))
+        demos = load_demonstrations(config, experience.features)  # checked here, used by the learner process
+        learner = cleanup.enter_context(LearnerProcess(config, specs, n_actions, experience.memory, demos,
+                                                       None if resumed else start_weights(config)))
         rng = np.random.default_rng(config.seed)
         start_episode, global_step, wall_time = restore(resumed, learner, experience, rng) if resumed else (0, 0, 0.0)
 

@@ -28,10 +28,10 @@ import numpy as np
 import torch
 import torch.multiprocessing as mp
 
-from agents.core.learner import DQNLearner
-from agents.core.policy import build_q_network
-from agents.core.replay import Batch
+from agents.core.demo_replay import DemoReplay
+from agents.core.policy import build_learner, build_q_network
 from agents.training.shared_replay import SharedFrameReplay, SharedReplayMemory
+from agents.training.teacher import initialise
 from agents.training.threads import limit_threads
 
 MAX_LAG_STEPS = 2000
@@ -63,7 +63,8 @@ class LearnerProcess:
     It stands in for a ``DQNLearner`` where the training loop's helpers need one
     (``learning_rate``, ``state_dict``, ``load_state_dict``)."""
 
-    def __init__(self, config, input_specs, n_actions: int, memory: SharedReplayMemory | SharedFrameReplay):
+    def __init__(self, config, input_specs, n_actions: int, memory: SharedReplayMemory | SharedFrameReplay,
+                 demos: DemoReplay | None = None, start_weights: dict | None = None):
         self.config = config
         ctx = mp.get_context("spawn")
         self.control = torch.zeros(8, dtype=torch.float64).share_memory_()
@@ -76,7 +77,7 @@ class LearnerProcess:
         self.conn, child = ctx.Pipe()
         self.process = ctx.Process(target=learn, name="dqn-learner", daemon=True,
                                    args=(config, input_specs, n_actions, memory, self.control, self.weights,
-                                         self.lock, child, os.getpid()))
+                                         self.lock, child, os.getpid(), demos, start_weights))
         self.process.start()
         child.close()
         self._version = 0.0
@@ -191,16 +192,15 @@ class LearnerProcess:
 
 # ---------------------------------------------------------------------------------------- the child
 def learn(config, input_specs, n_actions, memory: SharedReplayMemory | SharedFrameReplay, control: torch.Tensor,
-          weights, lock, conn, collector: int):
+          weights, lock, conn, collector: int, demos: DemoReplay | None = None, start_weights: dict | None = None):
     """The learner process: update whenever an update is due, answer the collector's commands (the
-    process ``collector``), end when it is gone."""
+    process ``collector``), end when it is gone. ``demos`` and ``start_weights``: a teacher's
+    (``agents.training.teacher``), applied when a new run starts."""
     limit_threads(1)
     ctrl = control.numpy()
     try:
         d = config.dqn
-        learner = DQNLearner(build_q_network(config, input_specs, n_actions), Batch(d.batch_size, input_specs),
-                             d.gamma, double=d.algorithm == "ddqn", loss=d.loss, max_grad_norm=d.max_grad_norm,
-                             learning_rate=config.schedule.learning_rate, device=config.run.device)
+        learner = build_learner(config, build_q_network(config, input_specs, n_actions), input_specs)
         rng = np.random.default_rng(np.random.SeedSequence([config.seed, 1]))
         sample_into = memory.sample_frames_into if isinstance(memory, SharedFrameReplay) else memory.sample_into
         params = list(learner.q.parameters())
@@ -223,7 +223,9 @@ def learn(config, input_specs, n_actions, memory: SharedReplayMemory | SharedFra
                     state, start_step = payload
                     if state is not None:
                         learner.load_state_dict(state)
-                        publish()
+                    else:
+                        initialise(learner, config, start_weights, demos)
+                    publish()
                     updates = updates_due(config, start_step)
                     ctrl[UPDATES], started = updates, True
                     conn.send(("ok", None))
@@ -237,6 +239,8 @@ def learn(config, input_specs, n_actions, memory: SharedReplayMemory | SharedFra
                 time.sleep(0.0005)
                 continue
             sample_into(learner.batch, rng)
+            if demos is not None:
+                demos.sample_into(learner.batch, rng)
             learner.learning_rate = ctrl[LR]
             loss = learner.update()
             updates += 1

@@ -27,6 +27,7 @@ from agents.training.experience import make_experience
 from agents.training.rollout import Episode, open_recorder
 from agents.training.run_dir import MetricsLog, check_resumable, episode_seed, new_run_dir, update_state_representation
 from agents.training.run_lock import RunDirLock
+from agents.training.teacher import initialise, load_demonstrations, start_weights
 from agents.training.threads import limit_threads
 from dynnav_tasks.outcomes import outcome_of
 
@@ -108,8 +109,13 @@ def train(config: Config) -> Path:
         q_network = build_q_network(config, specs, n_actions)
         learner = build_learner(config, q_network, specs)  # DQN, or on sequences for a recurrent Q-network
         srl = experience.srl  # the camera's auto-encoder (None for state and pixel runs)
+        demos = load_demonstrations(config, experience.features)  # a teacher's episodes, kept in the replay
         rng = np.random.default_rng(config.seed)
-        start_episode, global_step, wall_time = restore(resumed, learner, experience, rng) if resumed else (0, 0, 0.0)
+        if resumed:
+            start_episode, global_step, wall_time = restore(resumed, learner, experience, rng)
+        else:  # a new run: the teacher's student as the start (init_from), DQfD's pre-training
+            start_episode, global_step, wall_time = 0, 0, 0.0
+            initialise(learner, config, start_weights(config), demos)
 
         # --- the run directory: only now that everything checked out
         run_dir, metrics = open_run_dir(config, cleanup, start_episode if resumed else None)
@@ -157,6 +163,8 @@ def train(config: Config) -> Path:
                 if acting and global_step > d.learning_starts and global_step % d.train_frequency == 0 \
                         and len(experience) >= d.batch_size:
                     experience.sample_into(learner.batch, rng)
+                    if demos is not None:  # a share of the minibatch from the demonstrations, with labels
+                        demos.sample_into(learner.batch, rng)
                     losses.append(learner.update())
                     if d.target_update == "soft":
                         learner.update_target(d.tau)

@@ -19,6 +19,7 @@ from ..observations import OBS_MODES
 from ..scene import BuiltWorld
 from ..scene_pool import PoolSizes, ScenePool
 from ..snapshot import StepSnapshot
+from ..way_sense import WaySense
 from ..world import World
 
 DEFAULT_OBSTACLE_K = 4
@@ -29,6 +30,8 @@ TOP_DOWN_MARGIN = 0.3
 """metres of floor beyond the walls in the top-down picture (as ``viz.top_down``)"""
 WORLD_SEED_DRAW = 2**31
 """train and ood world seeds (train: the index k of ``train_world_seed``) are drawn below this"""
+MIXED = "mixed"
+"""the train split's ``difficulty`` that draws each world's difficulty, evenly, from the three"""
 
 
 @register_env("DynNav-Procedural-v1", max_episode_steps=NavEnv.max_episode_steps)
@@ -43,7 +46,9 @@ class ProceduralEnv(NavEnv):
     tested on worlds it never saw:
 
     * ``difficulty`` ("easy", "medium", "hard"): ``generation.spec_for(difficulty, split)``
-      says what each sets (arena size, layouts, obstacle count and speed, target motion)
+      says what each sets (arena size, layouts, obstacle count and speed, target motion);
+      ``"mixed"`` (train split only): each reset draws the difficulty, each with probability
+      1/3, then a train world of it (``env.unwrapped.world_difficulty`` says which)
     * ``split="train"``: world seed ``train_world_seed(difficulty, k)``, k drawn from the
       reset's seed; never a test world
     * ``split="test"``: the fixed list ``test_world_seeds(difficulty)`` (100 or more worlds of
@@ -59,7 +64,10 @@ class ProceduralEnv(NavEnv):
     * state (``obs_mode="state"``, 19 + 5 k values with 16 rays; ``egocentric.py``): the lasers | target
       distance, sin and cos of its bearing | for each of the ``obstacle_k`` (default 4)
       nearest moving obstacles, its x, y and velocity relative to the robot in the robot's
-      frame and a 1 (present); missing ones padded with (30, 0, 0, 0, 0)
+      frame and a 1 (present); missing ones padded with (30, 0, 0, 0, 0). ``way=True`` adds,
+      after the target, the way to it through the static layout (``way_sense.py``: its
+      length, sin and cos of the bearing of the point 0.5 m along it), as a robot with a map
+      and a global planner knows it: 22 + 5 k values
     * ``obs_mode="rgb"`` and ``"rgb+state"``: the camera worlds' red marker stands on the
       target (the generator makes it visible from the start)
     * reward: as every task's; ``normalized_dense`` divides by the current world's bound
@@ -87,11 +95,18 @@ class ProceduralEnv(NavEnv):
         difficulty: str = "easy",
         split: str = "train",
         obstacle_k: int = DEFAULT_OBSTACLE_K,
+        way: bool = False,
         obs_mode: Optional[str] = None,
         **kwargs,
     ):
-        self.difficulty = check_choice(difficulty, generation.DIFFICULTIES, "difficulty")
+        self.difficulty = check_choice(difficulty, (*generation.DIFFICULTIES, MIXED), "difficulty")
         self.split = check_choice(split, generation.SPLITS, "split")
+        if self.difficulty == MIXED and self.split != "train":
+            raise ValueError(f"difficulty='mixed' draws train worlds of every difficulty; split {self.split!r} needs "
+                             f"one difficulty of {generation.DIFFICULTIES}")
+        if not isinstance(way, bool):
+            raise ValueError(f"way must be True or False (the way through the static layout in the state); got {way!r}")
+        self.way = way
         if isinstance(obstacle_k, bool) or not isinstance(obstacle_k, numbers.Integral) or not (
             0 <= obstacle_k <= generation.MAX_MOVING_OBSTACLES
         ):
@@ -99,14 +114,19 @@ class ProceduralEnv(NavEnv):
                              f"obstacles the state describes); got {obstacle_k!r}")
         self.obstacle_k = int(obstacle_k)
         camera = "rgb" in check_choice(obs_mode or OBS_MODES[0], self.SUPPORTED_OBS_MODES, "obs_mode")
-        self.world_spec = generation.spec_for(self.difficulty, self.split, camera=camera)
-        """the ``WorldSpec`` this task's worlds are drawn from"""
-        self._test_seeds = generation.test_world_seeds(self.difficulty)
+        self._draws = generation.DIFFICULTIES if self.difficulty == MIXED else (self.difficulty,)
+        self._specs = {d: generation.spec_for(d, self.split, camera=camera) for d in self._draws}
+        self.world_difficulty = self._next_difficulty = self._draws[0]
+        """the current world's difficulty (one of three with ``difficulty="mixed"``)"""
+        self.world_spec = self._specs[self.world_difficulty]
+        """the ``WorldSpec`` the current world was drawn from"""
+        self._test_seeds = generation.test_world_seeds(self.world_difficulty)
         self._test_set = frozenset(self._test_seeds)
         self.world_seed = self._test_seeds[0] if self.split == "test" else self._seed_of_draw(0)
         """the current world's seed (None for a world given in ``reset``'s options)"""
         self.world = generation.generate_world(self.world_spec, self.world_seed)
         """the current episode's world"""
+        self._way: Optional[WaySense] = None  # the current world's way sense (way=True), made on first use
         self._request: Optional[tuple] = None  # what reset's options asked for, checked
         self._reset_seed: Optional[int] = None
         self._before: Optional[StepSnapshot] = None
@@ -133,6 +153,9 @@ class ProceduralEnv(NavEnv):
             return ("world", world)
         if "world_seed" not in options:
             return None
+        if self.difficulty == MIXED:
+            raise ValueError("options['world_seed'] names a world of one difficulty: make the task with that "
+                             "difficulty, or pass the World itself as options['world']")
         k = options["world_seed"]
         if isinstance(k, bool) or not isinstance(k, numbers.Integral) or k < 0:
             raise ValueError(f"options['world_seed'] must be a non-negative integer; got {k!r}")
@@ -148,13 +171,15 @@ class ProceduralEnv(NavEnv):
 
     def _seed_of_draw(self, k: int) -> int:
         """The world seed a draw ``k`` picks in the train and ood splits."""
-        return generation.train_world_seed(self.difficulty, k) if self.split == "train" else k
+        return generation.train_world_seed(self._next_difficulty, k) if self.split == "train" else k
 
     def _draw_world_seed(self) -> int:
         if self.split == "test":
             n = len(self._test_seeds)
             i = self._reset_seed % n if self._reset_seed is not None else int(self.np_random.integers(n))
             return self._test_seeds[i]
+        if self.difficulty == MIXED:
+            self._next_difficulty = self._draws[int(self.np_random.integers(len(self._draws)))]
         return self._seed_of_draw(int(self.np_random.integers(WORLD_SEED_DRAW)))
 
     # ------------------------------------------------------------------ scene and episodes
@@ -167,18 +192,23 @@ class ProceduralEnv(NavEnv):
 
     def _initialize_episode(self, env_idx, options: dict):
         request, self._request = self._request, None
+        self._next_difficulty = self.world_difficulty
         if request is not None and request[0] == "world":
             self._show(request[1], None)
         else:
             seed = request[1] if request is not None else self._draw_world_seed()
-            if seed != self.world_seed or self._shown is None:  # the same world again needs nothing moved
-                world = self.world if seed == self.world_seed else generation.generate_world(self.world_spec, seed)
+            same = seed == self.world_seed and self._next_difficulty == self.world_difficulty
+            if not same or self._shown is None:  # the same world again needs nothing moved
+                spec = self._specs[self._next_difficulty]
+                world = self.world if same else generation.generate_world(spec, seed)
+                self.world_difficulty, self.world_spec = self._next_difficulty, spec
                 self._show(world, seed)
         super()._initialize_episode(env_idx, options)
 
     def _show(self, world: World, seed: Optional[int]):
         """Make ``world`` the scene's world from this reset on."""
         self.world, self.world_seed = world, seed
+        self._way = None
         self._use_world(self._pool.place(world))
         self._shown = world
         self.reward_bound = self.reward_bound_of(world)
@@ -197,16 +227,27 @@ class ProceduralEnv(NavEnv):
         return super()._take_snapshot(step, contact, previous, placed)
 
     def task_state_vector(self) -> np.ndarray:
-        """The egocentric state (``egocentric.py``), float32 of 19 + 5 ``obstacle_k`` values."""
-        return egocentric_state(self.observed_snapshot, self._before, self.obstacle_k)
+        """The egocentric state (``egocentric.py``), float32 of 19 + 5 ``obstacle_k`` values (22 + ...
+        with ``way``)."""
+        s = self.observed_snapshot
+        return egocentric_state(s, self._before, self.obstacle_k, self.way_reading(s) if self.way else None)
+
+    def way_reading(self, snapshot: StepSnapshot) -> tuple[float, float, float]:
+        """The way to the target through this world's static layout from ``snapshot``'s pose
+        (``way_sense.WaySense.read``: length, sin and cos of the bearing ahead on it)."""
+        if self._way is None:
+            self._way = WaySense(self.world)
+        x, y, yaw = snapshot.pose
+        return self._way.read(x, y, yaw, *snapshot.target_xy)
 
     def task_state_space(self) -> gym.spaces.Box:
         """Bounds of the egocentric state (``egocentric.egocentric_space``)."""
-        return egocentric_space(len(self._sensing.lasers.angles), self._sensing.lasers.max_range, self.obstacle_k)
+        lasers = self._sensing.lasers
+        return egocentric_space(len(lasers.angles), lasers.max_range, self.obstacle_k, self.way)
 
     def task_state_layout(self) -> list[tuple[str, int]]:
         """Names and sizes of the parts of the egocentric state, in order."""
-        return egocentric_layout(len(self._sensing.lasers.angles), self.obstacle_k)
+        return egocentric_layout(len(self._sensing.lasers.angles), self.obstacle_k, self.way)
 
     # ------------------------------------------------------------------ top-down picture
     @property

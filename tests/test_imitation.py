@@ -1,0 +1,106 @@
+"""Teacher-student learning (agents.imitation): DAgger beats its behaviour-cloning start, the data
+loads back as it was written (numpy and Minari), and bad input writes nothing."""
+
+import dataclasses
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from agents.imitation.collector import Collector
+from agents.imitation.config import ImitationConfig
+from agents.imitation.dagger import DATA_FILE, ROUNDS_FILE, train
+from agents.core.demonstrations import Demonstrations
+from agents.imitation.offline_dataset import load_minari, write_minari
+from agents.training.config_io import load_yaml, to_yaml_dict
+from agents.training.test_phase import evaluate
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture(scope="module")
+def student(tmp_path_factory) -> Path:
+    """The generalist's student on easy train worlds only, with no test phase of its own."""
+    path = tmp_path_factory.mktemp("student") / "student.yaml"
+    path.write_text(f"base: {ROOT / 'configs/procedural/generalist.yaml'}\n"
+                    "env:\n  task_kwargs: {difficulty: easy, split: train, way: true, turn_forward_step: 0.0}\n"
+                    "test:\n  eval_task_kwargs: {}\n  also_test_on: []\n")
+    return path
+
+
+def settings(student: Path, runs: Path, **changes) -> ImitationConfig:
+    return dataclasses.replace(ImitationConfig(student=str(student), teacher_episodes=8, rounds=0, round_episodes=8,
+                                               epochs=50, workers=0, runs_dir=str(runs), progress=False,
+                                               dataset=False), **changes)
+
+
+def success(run_dir: Path, out: Path) -> float:
+    """Greedy success of the run's student on 40 easy train episodes (the same ones every time)."""
+    return evaluate(run_dir, episodes=40, seed=5000, picture=False, out_dir=out, verbose=False)["success_rate"]
+
+
+def test_dagger_improves_on_its_behaviour_cloning_start(student, tmp_path):
+    cfg = settings(student, tmp_path / "runs")
+    run_dir = train(cfg)  # round 0: behaviour cloning on 8 of the planner's episodes
+    cloned = success(run_dir, tmp_path / "bc")
+    run_dir = train(dataclasses.replace(cfg, resume=str(run_dir), rounds=2))  # two DAgger rounds of 8 episodes
+    dagger = success(run_dir, tmp_path / "dagger")
+    assert dagger >= cloned + 0.075, (cloned, dagger)
+
+    data = Demonstrations.load(run_dir / DATA_FILE)
+    assert sorted(set(data.rounds)) == [0, 1, 2] and len(data.rollouts) == 24
+    first = [r for r, k in zip(data.rollouts, data.rounds) if k == 0]
+    assert all((r.actions == r.labels).all() for r in first)  # round 0: the teacher drove
+    later = [r for r, k in zip(data.rollouts, data.rounds) if k > 0]
+    assert any((r.actions != r.labels).any() for r in later)  # DAgger: the student drove, the teacher labelled
+    rows = (run_dir / ROUNDS_FILE).read_text().splitlines()
+    assert [row.split(",")[0] for row in rows[1:]] == ["0", "1", "2"]  # one row per round, none twice
+
+
+def test_demonstrations_load_back_as_numpy_and_as_a_minari_data_set(student, tmp_path):
+    config = load_yaml(student)
+    with Collector(to_yaml_dict(config), workers=0) as collector:
+        rollouts = collector.play([(11, 1.0), (12, 1.0), (13, 1.0)])
+    data = Demonstrations()
+    data.add(rollouts, 0)
+    (tmp_path / "d.npz").write_bytes(data.to_npz())
+    back = Demonstrations.load(tmp_path / "d.npz")
+    for a, b in zip(data.rollouts, back.rollouts):
+        assert dataclasses.asdict(a).keys() == dataclasses.asdict(b).keys()
+        for field, value in dataclasses.asdict(a).items():
+            np.testing.assert_array_equal(value, dataclasses.asdict(b)[field], err_msg=field)
+
+    from agents.imitation.dagger import EnvSpec, _spec_fields
+    from agents.training.envs import make_env_from
+
+    env = make_env_from(config)
+    try:
+        folder = write_minari(rollouts, tmp_path / "dataset", EnvSpec(**_spec_fields(env, config)),
+                              env.observation_space, env.action_space, description="three test episodes")
+    finally:
+        env.close()
+    dataset = load_minari(folder)
+    assert dataset.total_episodes == 3 and dataset.total_steps == sum(r.steps for r in rollouts)
+    for episode, r in zip(dataset.iterate_episodes(), rollouts):
+        np.testing.assert_array_equal(episode.observations, r.observations)
+        np.testing.assert_array_equal(episode.actions, r.actions)
+        np.testing.assert_allclose(episode.rewards, r.rewards)
+        np.testing.assert_array_equal(episode.infos["label"], np.concatenate([r.labels, [-1]]))
+        assert bool(episode.terminations[-1]) == r.terminated and bool(episode.truncations[-1]) == r.truncated
+    recovered = dataset.recover_environment()  # the task as the episodes saw it, options included
+    try:
+        obs, _ = recovered.reset(seed=11)
+        np.testing.assert_allclose(obs, rollouts[0].observations[0], atol=1e-5)
+    finally:
+        recovered.close()
+
+
+def test_bad_settings_end_with_one_line_and_write_nothing(student, tmp_path):
+    runs = tmp_path / "runs"
+    result = subprocess.run([sys.executable, "-m", "agents.imitation", "--student", str(student), "--rounds", "-1",
+                             "--beta-decay", "1.5", "--runs-dir", str(runs)], capture_output=True, text=True, cwd=ROOT)
+    assert result.returncode != 0
+    assert "rounds must be an integer >= 0" in result.stderr and "beta_decay must be a number in [0.0, 1.0]" in result.stderr
+    assert not runs.exists()
