@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Create or refresh .venv: a CPU build of torch first, then dynnav with its test, docs and
-# bench extras; then make sure SAPIEN can render (installing Mesa's lavapipe from bookworm-backports
+# Create or refresh .venv: a CPU build of torch first, then dynnav with its test, docs, bench
+# and tensorboard extras; then make sure SAPIEN can render (installing Mesa's lavapipe from bookworm-backports
 # when run as root).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -37,7 +37,7 @@ if [ ! -f "$STAMP" ] || [ pyproject.toml -nt "$STAMP" ]; then
   "$VENV/bin/python" -m pip install -q --upgrade pip
   "$VENV/bin/python" -m pip install -q torch==2.13.0
   # torch==2.13.0 named again: no extra (SB3 in "bench") can make pip replace the CPU build
-  "$VENV/bin/python" -m pip install -q -e ".[test,docs,bench]" torch==2.13.0
+  "$VENV/bin/python" -m pip install -q -e ".[test,docs,bench,tensorboard]" torch==2.13.0
   rm -f "$VENV/.dynnav-vulkan-ok"
   touch "$STAMP"
 fi

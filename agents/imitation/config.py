@@ -57,6 +57,10 @@ class ImitationConfig:
     """write the demonstrations as a Minari data set (dataset/ in the run directory) at the end"""
     progress: bool = True
     """progress bars"""
+    tensorboard: bool = False
+    """also write TensorBoard scalars into tensorboard/ in the run directory: the imitation loss of every
+    epoch, and per DAgger round its iteration, beta, success, states and accuracies (needs
+    pip install 'dynnav[tensorboard]')"""
     resume: Optional[str] = None
     """continue the run in this directory from its last finished round"""
 
@@ -76,6 +80,13 @@ class ImitationConfig:
             errors.append("validation_every 1 would hold out every episode: use 0 (none) or >= 2")
         if not Path(self.student).is_file():
             errors.append(f"student: no training config at {self.student!r} (e.g. configs/procedural/generalist.yaml)")
+        if self.tensorboard:
+            from agents.training.tensorboard_log import check_available
+
+            try:
+                check_available()
+            except ValueError as err:
+                errors.append(str(err))
         if errors:
             raise ValueError("; ".join(errors))
         return self

@@ -52,6 +52,7 @@ from agents.training.envs import is_dynnav, make_env_from
 from agents.training.experience import make_features
 from agents.training.run_dir import episode_seed, new_run_dir
 from agents.training.run_lock import RunDirLock
+from agents.training.tensorboard_log import TensorBoardLog
 from agents.training.threads import limit_threads
 
 STATE_FILE, SETTINGS_FILE, ROUNDS_FILE, DATA_FILE, DATASET_DIR = (
@@ -130,6 +131,10 @@ def train(cfg: ImitationConfig) -> Path:
         print(f"imitation run: {run_dir} (rounds {start} to {cfg.rounds})")
 
         # --- the rounds
+        board = TensorBoardLog(run_dir) if cfg.tensorboard else None
+        if board is not None:
+            cleanup.callback(board.close)
+        epochs_done = start * cfg.epochs  # the x axis of the imitation loss: epochs over every fit
         collector = cleanup.enter_context(Collector(to_yaml_dict(config), cfg.workers))
         for round_ in range(start, cfg.rounds + 1):
             t0 = time.perf_counter()
@@ -139,8 +144,15 @@ def train(cfg: ImitationConfig) -> Path:
                                       description=f"round {round_} (beta {beta:.2f})")
             data.add(rollouts, round_)
             (x, y), (hx, hy) = _split(data, cfg.validation_every)
+
+            def on_epoch(loss: float) -> None:
+                nonlocal epochs_done
+                epochs_done += 1
+                if board is not None:
+                    board.scalars(epochs_done, {"imitation/loss": loss})
+
             report = fit(net, features(x).astype(np.float32), y, cfg.epochs, cfg.batch_size, cfg.learning_rate,
-                         np.random.default_rng([cfg.seed, round_]), (features(hx).astype(np.float32), hy))
+                         np.random.default_rng([cfg.seed, round_]), (features(hx).astype(np.float32), hy), on_epoch)
             outcomes = [r.outcome for r in rollouts]
             labels = sum(r.steps for r in rollouts)
             row = dict(round=round_, beta=round(beta, 4), episodes=n, success=outcomes.count("success") / n,
@@ -149,6 +161,12 @@ def train(cfg: ImitationConfig) -> Path:
                        fit_loss=report.loss, train_accuracy=report.train_accuracy,
                        validation_accuracy=report.validation_accuracy, seconds=time.perf_counter() - t0)
             _write_round(run_dir, config, data, net, features, int(env.action_space.n), row)
+            if board is not None:
+                board.scalars(round_, {"imitation/dagger_iteration": round_, "imitation/beta": beta,
+                                       "imitation/success": row["success"], "imitation/states": len(data),
+                                       "imitation/train_accuracy": report.train_accuracy,
+                                       "imitation/validation_accuracy": report.validation_accuracy})
+                board.flush()
             held = "" if report.validation_accuracy is None else f", held-out accuracy {report.validation_accuracy:.3f}"
             print(f"round {round_}: {n} episodes at beta {beta:.2f}: success {row['success']:.0%}; "
                   f"{len(data)} states; accuracy {report.train_accuracy:.3f}{held}; {row['seconds']:.0f} s")

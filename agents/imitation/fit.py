@@ -10,7 +10,7 @@ on held-out ones.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Optional
+from typing import Callable, Optional
 
 import numpy as np
 import torch
@@ -43,8 +43,10 @@ def accuracy(net: nn.Module, x: np.ndarray, labels: np.ndarray, batch: int = 409
 
 
 def fit(net: nn.Module, x: np.ndarray, labels: np.ndarray, epochs: int, batch_size: int, learning_rate: float,
-        rng: np.random.Generator, held_out: Optional[tuple[np.ndarray, np.ndarray]] = None) -> FitReport:
-    """Train ``net`` to give the teacher's ``labels`` for inputs ``x`` (float32, already scaled)."""
+        rng: np.random.Generator, held_out: Optional[tuple[np.ndarray, np.ndarray]] = None,
+        on_epoch: Optional[Callable[[float], None]] = None) -> FitReport:
+    """Train ``net`` to give the teacher's ``labels`` for inputs ``x`` (float32, already scaled);
+    ``on_epoch(mean loss)`` is called after every epoch."""
     optimizer = torch.optim.Adam(net.parameters(), lr=learning_rate)
     xt, yt = torch.as_tensor(x), torch.as_tensor(labels)
     updates, loss_sum, batches = 0, 0.0, 0
@@ -59,5 +61,7 @@ def fit(net: nn.Module, x: np.ndarray, labels: np.ndarray, epochs: int, batch_si
             loss.backward()
             optimizer.step()
             loss_sum, batches, updates = loss_sum + loss.item(), batches + 1, updates + 1
+        if on_epoch is not None:
+            on_epoch(loss_sum / max(batches, 1))
     validation = accuracy(net, *held_out) if held_out is not None and len(held_out[0]) else None
     return FitReport(loss_sum / max(batches, 1), accuracy(net, x, labels), validation, updates)

@@ -215,6 +215,9 @@ class RunConfig:
     its Q-values, the training curves, and (with --eval) every test episode"""
     rerun_every: int = 100
     """record every this many training episodes (the first included)"""
+    tensorboard: bool = False
+    """also write TensorBoard scalars (return, success, collision, loss, epsilon, learning rate, steps/s)
+    into tensorboard/ in the run directory (needs pip install 'dynnav[tensorboard]')"""
     fast: bool = False
     """train on two processes: this one steps the environment, a second one makes the updates from a
     shared replay memory (same number of updates per step); faster, but not replayable bit for bit
@@ -343,6 +346,10 @@ def validate(c: Config) -> None:
     validate_memory(c)
     validate_demos(c)
     check_device(c.run.device)
+    if c.run.tensorboard and not c.eval:
+        from agents.training.tensorboard_log import check_available
+
+        check_available()
     if c.eval and not c.checkpoint:
         raise ValueError("--eval needs --checkpoint <checkpoint or run directory>")
 

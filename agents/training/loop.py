@@ -28,6 +28,7 @@ from agents.training.rollout import Episode, open_recorder
 from agents.training.run_dir import MetricsLog, check_resumable, episode_seed, new_run_dir, update_state_representation
 from agents.training.run_lock import RunDirLock
 from agents.training.teacher import initialise, load_demonstrations, start_weights
+from agents.training.tensorboard_log import TensorBoardLog
 from agents.training.threads import limit_threads
 from dynnav_tasks.outcomes import outcome_of
 
@@ -80,7 +81,8 @@ def open_run_dir(config: Config, cleanup: contextlib.ExitStack, keep_episodes: i
         cleanup.enter_context(RunDirLock(run_dir))
     ckpt.clean_leftovers(run_dir)
     save_yaml(config, run_dir / "config.yaml")  # a resumed run may have changed e.g. the episode count
-    metrics = MetricsLog(run_dir / "metrics.csv", keep_episodes=keep_episodes)
+    tensorboard = TensorBoardLog(run_dir) if config.run.tensorboard else None
+    metrics = MetricsLog(run_dir / "metrics.csv", keep_episodes=keep_episodes, tensorboard=tensorboard)
     cleanup.callback(metrics.close)
     return run_dir, metrics
 

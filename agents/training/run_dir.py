@@ -56,8 +56,10 @@ class MetricsLog:
     """metrics.csv (one row per episode, appended as the episode ends), the progress bar and the
     Rerun training curves."""
 
-    def __init__(self, path: Path, keep_episodes: int | None = None):
+    def __init__(self, path: Path, keep_episodes: int | None = None, tensorboard=None):
         self.path = path
+        self.tensorboard = tensorboard
+        """a ``tensorboard_log.TensorBoardLog`` that also receives every row (None: none)"""
         if keep_episodes is not None:
             self._keep_rows(keep_episodes)
         self.pending = io.StringIO()
@@ -104,6 +106,13 @@ class MetricsLog:
         self.flush()
         self.recent_success.append(success)
         self.recent_return.append(result.ret)
+        if self.tensorboard is not None:
+            self.tensorboard.scalars(global_step, {
+                "charts/episodic_return": result.ret, "charts/episodic_length": result.length,
+                "charts/success": success, "charts/success_rate": float(np.mean(self.recent_success)),
+                "charts/collision": bool(info.get("collision", False)),
+                "losses/td_loss": np.mean(losses) if losses else None, "charts/epsilon": epsilon,
+                "charts/learning_rate": learning_rate, "charts/SPS": result.length / elapsed})
         if recorder is not None:
             recorder.log_training(episode, episode_return=result.ret, loss=np.mean(losses) if losses else None,
                                   epsilon=epsilon, success_rate=float(np.mean(self.recent_success)))
@@ -137,8 +146,10 @@ class MetricsLog:
         plot_learning_curves(self.path, run_dir, title=title)
 
     def close(self) -> None:
-        """Append the pending rows."""
+        """Append the pending rows (and close the TensorBoard files)."""
         self.flush()
+        if self.tensorboard is not None:
+            self.tensorboard.close()
 
 
 def update_state_representation(srl, memory, rng, episodes_done: int, config, run_dir: Path) -> None:
