@@ -46,7 +46,7 @@ class WaySense:
     """The way through one world's static layout, read from the robot's pose (module docstring)."""
 
     def __init__(self, world, clearance: float = CLEARANCE):
-        self.grid = WayGrid(world, clearance)
+        self.grid = WayGrid(world, clearance, lists=False)  # a few reads per step: numpy grids, no lists to build
         # for every cell, the nearest free cell (itself when free): where a robot too close to a wall reads from
         if self.grid.free.any():
             _, index = ndimage.distance_transform_edt(~self.grid.free, return_indices=True)

@@ -72,15 +72,17 @@ class WayField:
         self._grid, self.target = grid, target
         finite = np.isfinite(distance)
         unreachable = (distance[finite].max() if finite.any() else 0.0) + grid.diagonal
-        self._distance = np.where(finite, distance, unreachable).tolist()  # a closed-off cell: worse than any
-        self._aim = aim_xy.tolist()
+        self._distance = np.where(finite, distance, unreachable)  # a closed-off cell: worse than any
+        self._aim = aim_xy
+        if grid.lists:  # [i][j] reads the same from lists and arrays; lists are faster per read
+            self._distance, self._aim = self._distance.tolist(), self._aim.tolist()
 
     def distance(self, x: float, y: float) -> float:
         """Length (m) of the way from (x, y) to the target through the static layout: the
         cell's way, corrected by how far (x, y) lies from the cell centre along the way's
         direction (so that it changes smoothly within a cell)."""
         i, j = self._grid.cell_of(x, y)
-        d = self._distance[i][j]
+        d = float(self._distance[i][j])
         ax, ay = self._aim[i][j]
         cx, cy = self._grid.center(i, j)
         dx, dy = ax - cx, ay - cy
@@ -93,15 +95,18 @@ class WayField:
         """The point (x, y) should head for: ``AIM_AHEAD`` cells further along its way (the
         target itself when the way ends sooner)."""
         i, j = self._grid.cell_of(x, y)
-        return tuple(self._aim[i][j])
+        return tuple(float(v) for v in self._aim[i][j])
 
 
 class WayGrid:
     """The arena's occupancy grid of static boxes and walls, inflated by ``clearance``."""
 
-    def __init__(self, world, clearance: float, cell: float = CELL):
+    def __init__(self, world, clearance: float, cell: float = CELL, lists: bool = True):
         arena = world.arena
         self.cell = cell
+        self.lists = lists
+        """whether each ``WayField`` keeps its grids as Python lists (faster per lookup, for a search
+        that makes thousands per step; building them costs a few milliseconds) or as numpy arrays"""
         self.x0, self.y0 = float(arena.x_range[0]), float(arena.y_range[0])
         self.nx = max(1, int(math.ceil((arena.x_range[1] - self.x0) / cell - 1e-9)))
         self.ny = max(1, int(math.ceil((arena.y_range[1] - self.y0) / cell - 1e-9)))
@@ -110,11 +115,18 @@ class WayGrid:
         ys = self.y0 + (np.arange(self.ny) + 0.5) * cell
         gap = np.minimum(np.minimum(xs - self.x0, arena.x_range[1] - xs)[:, None],
                          np.minimum(ys - self.y0, arena.y_range[1] - ys)[None, :])
+        need = clearance - cell / math.sqrt(2)
         for lx, ly, hx, hy in static_boxes(world):
-            dx = np.maximum(np.maximum(lx - xs, xs - hx), 0.0)
-            dy = np.maximum(np.maximum(ly - ys, ys - hy), 0.0)
-            np.minimum(gap, np.hypot(dx[:, None], dy[None, :]), out=gap)
-        self.free = gap >= clearance - cell / math.sqrt(2)
+            # only cells nearer than ``need`` can change from free to occupied: look at the box's window
+            i0, i1 = np.searchsorted(xs, lx - need), np.searchsorted(xs, hx + need, side="right")
+            j0, j1 = np.searchsorted(ys, ly - need), np.searchsorted(ys, hy + need, side="right")
+            if i0 >= i1 or j0 >= j1:
+                continue
+            wx, wy = xs[i0:i1], ys[j0:j1]
+            dx = np.maximum(np.maximum(lx - wx, wx - hx), 0.0)
+            dy = np.maximum(np.maximum(ly - wy, wy - hy), 0.0)
+            np.minimum(gap[i0:i1, j0:j1], np.hypot(dx[:, None], dy[None, :]), out=gap[i0:i1, j0:j1])
+        self.free = gap >= need
         """(nx, ny) cells the robot's centre may be in"""
         self._graph = self._neighbour_graph()
         self._fields: dict[tuple[int, int], WayField] = {}
