@@ -11,6 +11,7 @@ import numpy as np
 import torch
 from torch import nn
 
+from agents.core.encoders import EgocentricQNetwork
 from agents.core.learner import DQNLearner
 from agents.core.networks import MLPQNetwork, PixelQNetwork, check_q_network, load_factory, q_values_of
 from agents.core.recurrent import RecurrentLearner, RecurrentQNetwork
@@ -33,6 +34,9 @@ def build_q_network(config, input_specs, n_actions: int) -> nn.Module:
     if config.dqn.q_network:
         module = load_factory(config.dqn.q_network)(shapes, n_actions)
         source = f"q_network {config.dqn.q_network!r}"
+    elif (config.dqn.laser_encoder, config.dqn.obstacle_encoder) != ("flat", "flat"):
+        module = egocentric_network(config, shapes, n_actions)
+        source = "the egocentric Q-network"
     elif config.camera.camera_frames and config.camera.camera_input == "pixels":
         module = PixelQNetwork(shapes[0], shapes[1][0], n_actions, shift=config.camera.pixel_shift)
         source = "the pixel Q-network"
@@ -42,6 +46,18 @@ def build_q_network(config, input_specs, n_actions: int) -> nn.Module:
         module = MLPQNetwork(shapes[0][0], n_actions, config.dqn.hidden_sizes)
         source = "the MLP Q-network"
     return check_q_network(module, shapes, dtypes, n_actions, source)
+
+
+def egocentric_network(config, shapes, n_actions: int) -> EgocentricQNetwork:
+    """The ``EgocentricQNetwork`` of a run on the egocentric state: its laser and obstacle counts are the
+    task options ``laser_rays`` and ``obstacle_k`` (the task's defaults when not given)."""
+    from dynnav_tasks.lasers import NUM_LASERS
+    from dynnav_tasks.tasks.procedural import DEFAULT_OBSTACLE_K
+
+    kwargs, d = config.env.task_kwargs, config.dqn
+    return EgocentricQNetwork(shapes[0][0], n_actions, d.hidden_sizes, lasers=int(kwargs.get("laser_rays", NUM_LASERS)),
+                              obstacle_k=int(kwargs.get("obstacle_k", DEFAULT_OBSTACLE_K)),
+                              laser_encoder=d.laser_encoder, obstacle_encoder=d.obstacle_encoder)
 
 
 def build_learner(config, q_network: nn.Module, input_specs) -> DQNLearner:

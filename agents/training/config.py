@@ -73,6 +73,12 @@ class DQNConfig:
     """environment steps between hard target copies (C in Alg. 1)"""
     tau: float = 0.005
     """soft target update rate"""
+    laser_encoder: Literal["flat", "conv"] = "flat"
+    """egocentric state (DynNav-Procedural-v1): conv reads the laser ring with a circular 1-D convolution
+    (agents/core/encoders.py); flat: as one more part of the MLP's input"""
+    obstacle_encoder: Literal["flat", "pooled"] = "flat"
+    """egocentric state: pooled reads the tracked obstacles with one shared MLP and a max over them, whatever
+    their order; flat: as they are"""
     recurrent: Optional[Literal["gru", "lstm"]] = None
     """memory (docs/memory.md): gru or lstm puts that recurrent layer (recurrent_size) between an MLP encoder
     (hidden_sizes) and the Q head, its state carried through each episode, and trains on stored sequences of
@@ -385,11 +391,16 @@ def validate_memory(c: Config) -> None:
 
 
 def validate_demos(c: Config) -> None:
-    """ValueError if the teacher's settings (``demos``) clash with the run's."""
+    """ValueError if the teacher's settings (``demos``) or the egocentric encoders clash with the run's."""
     t = c.demos
     if t.pretrain_updates and not t.demonstrations:
         raise ValueError("pretrain_updates trains on demonstrations before the first episode: set demonstrations "
                          "(an agents.imitation run directory) too")
+    d = c.dqn
+    if (d.laser_encoder, d.obstacle_encoder) != ("flat", "flat") and (d.q_network or d.recurrent or c.camera.camera_frames
+                                                                      or c.env.state_frames != 1):
+        raise ValueError("laser_encoder and obstacle_encoder read one egocentric state vector: not with q_network, "
+                         "recurrent, camera_frames or state_frames > 1")
     if (t.init_from or t.demonstrations) and (c.dqn.recurrent or c.camera.camera_frames or c.env.state_frames != 1):
         raise ValueError("init_from and demonstrations start from a student that reads one state vector: not with "
                          "recurrent, camera_frames or state_frames > 1")
