@@ -12,8 +12,10 @@ agents/study/table.py. Tests with other task options (``tests/<key=value,...>/ev
   trained: ``name``, ``description``, ``seed``, the ``run`` group (folder, checkpoints, device,
   progress) and the test fields ``eval_after_training``, ``eval_out``, ``eval_task_kwargs`` and
   ``also_test_on`` (a row's ``tested_on`` says which test it is). The seeds of one experiment share it.
-  The memory settings (``MEMORY_FIELDS``) count only with ``recurrent`` set: without it they change
-  nothing, and runs recorded before they existed keep their hash.
+  The memory settings (``MEMORY_FIELDS``) count only with ``recurrent`` set, the encoders
+  (``FLAT_ENCODERS``) only when not flat and the ``demos`` group only with a teacher: without them
+  they change nothing, and runs recorded before they existed keep their hash. A teacher's run
+  counts as whether it is given, not by its folder, which differs from seed to seed.
 * convergence episode: the first training episode at which the success rate over the last
   WINDOW episodes reaches 90% of its value over the run's last WINDOW episodes (only full
   windows; none if the run ends at 0%).
@@ -47,6 +49,11 @@ NOT_HASHED = {"name": None, "description": None, "seed": None, "run": None,
 """config fields left out of the config hash (None: the whole field or group)"""
 MEMORY_FIELDS = ("recurrent", "recurrent_size", "sequence_length", "burn_in")
 """dqn fields of the recurrent Q-network, hashed only when ``recurrent`` is set"""
+FLAT_ENCODERS = {"laser_encoder": "flat", "obstacle_encoder": "flat"}
+"""dqn fields of the egocentric encoders, hashed only when not flat"""
+TEACHER_PATHS = ("init_from", "demonstrations")
+"""demos fields that name another run: hashed as whether they are set (each seed's teacher has its own
+folder); the demos group is hashed only when one is set"""
 REQUIRED = ("config.yaml", "metrics.csv", "eval.json")
 CODE_ROOT = Path(__file__).resolve().parents[2]
 
@@ -60,8 +67,13 @@ def config_hash(config: dict) -> str:
             continue
         if dropped and isinstance(value, dict):
             value = {k: v for k, v in value.items() if k not in dropped}
-        if key == "dqn" and isinstance(value, dict) and not value.get("recurrent"):
-            value = {k: v for k, v in value.items() if k not in MEMORY_FIELDS}
+        if key == "dqn" and isinstance(value, dict):
+            value = {k: v for k, v in value.items() if (value.get("recurrent") or k not in MEMORY_FIELDS)
+                     and FLAT_ENCODERS.get(k, object()) != v}
+        if key == "demos" and isinstance(value, dict):
+            if not any(value.get(k) for k in TEACHER_PATHS):
+                continue
+            value = {k: (bool(v) if k in TEACHER_PATHS else v) for k, v in value.items()}
         kept[key] = value
     text = json.dumps(kept, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode()).hexdigest()[:12]
