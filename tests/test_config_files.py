@@ -116,9 +116,11 @@ def test_a_run_writes_its_fully_resolved_config(tmp_path):
 
 IMITATION = sorted((CONFIGS / "imitation").glob("*.yaml"))
 """agents.imitation's settings (each names a training config as its student)"""
+ABLATIONS = sorted((CONFIGS / "imitation" / "ablations").glob("*.yaml"))
+"""agents.imitation.ablation's settings"""
 
 
-@pytest.mark.parametrize("path", sorted(set(CONFIGS.rglob("*.yaml")) - set(IMITATION)),
+@pytest.mark.parametrize("path", sorted(set(CONFIGS.rglob("*.yaml")) - set((CONFIGS / "imitation").rglob("*.yaml"))),
                          ids=lambda p: str(p.relative_to(CONFIGS)))
 def test_every_config_file_loads_and_validates(path):
     config = load_yaml(path).validate()
@@ -160,3 +162,14 @@ def test_the_study_configs_hold_the_study_settings():
     assert variant.env.reward_params == {"distance_gamma": 0.1, "collision_reward": -100.0}
     assert (variant.env.task_kwargs, variant.camera.camera_frames, variant.schedule.random_episodes) == (
         {"turn_forward_step": 0.05}, 1, 400)
+
+
+@pytest.mark.parametrize("path", ABLATIONS, ids=lambda p: p.name)
+def test_every_ablation_variant_makes_a_valid_student(path):
+    from agents.imitation.ablation import read_config, variant_config
+
+    settings = read_config(path)
+    base = load_yaml(CONFIGS / "procedural" / "generalist.yaml")
+    for name, changes in settings["variants"].items():
+        config = variant_config(base, settings["experiment"], name, changes, seed=1)
+        assert config.name == f"{settings['experiment']}-{name}"

@@ -15,6 +15,7 @@ from agents.imitation.dagger import DATA_FILE, ROUNDS_FILE, train
 from agents.core.demonstrations import Demonstrations
 from agents.imitation.offline_dataset import load_minari, write_minari
 from agents.training.config_io import load_yaml, to_yaml_dict
+from agents.study.run_record import read_run
 from agents.training.test_phase import evaluate
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -26,7 +27,7 @@ def student(tmp_path_factory) -> Path:
     path = tmp_path_factory.mktemp("student") / "student.yaml"
     path.write_text(f"base: {ROOT / 'configs/procedural/generalist.yaml'}\n"
                     "env:\n  task_kwargs: {difficulty: easy, split: train, way: true, turn_forward_step: 0.0}\n"
-                    "test:\n  eval_task_kwargs: {}\n  also_test_on: []\n")
+                    "test:\n  eval_after_training: false\n  also_test_on: []\n")
     return path
 
 
@@ -46,8 +47,12 @@ def test_dagger_improves_on_its_behaviour_cloning_start(student, tmp_path):
     run_dir = train(cfg)  # round 0: behaviour cloning on 8 of the planner's episodes
     cloned = success(run_dir, tmp_path / "bc")
     run_dir = train(dataclasses.replace(cfg, resume=str(run_dir), rounds=2))  # two DAgger rounds of 8 episodes
-    dagger = success(run_dir, tmp_path / "dagger")
+    dagger = success(run_dir, run_dir)  # the test phase into the run directory, as a DQN run's
     assert dagger >= cloned + 0.075, (cloned, dagger)
+
+    (row,), episodes = read_run(run_dir)  # the student is a row of the run table
+    assert row["experiment"] == "student-dagger" and row["episodes_done"] == 0
+    assert row["success_rate"] == dagger and len(episodes) == 40 and row["train_s"] > 0
 
     data = Demonstrations.load(run_dir / DATA_FILE)
     assert sorted(set(data.rounds)) == [0, 1, 2] and len(data.rollouts) == 24
@@ -104,3 +109,25 @@ def test_bad_settings_end_with_one_line_and_write_nothing(student, tmp_path):
     assert result.returncode != 0
     assert "rounds must be an integer >= 0" in result.stderr and "beta_decay must be a number in [0.0, 1.0]" in result.stderr
     assert not runs.exists()
+
+
+def test_episodes_seen_again_through_other_sensors_keep_their_states(student):
+    from agents.imitation.reobserve import reobserve
+
+    config = load_yaml(student)
+    with Collector(to_yaml_dict(config), workers=0) as collector:
+        rollouts = collector.play([(21, 1.0), (22, 1.0)])
+    more = dataclasses.replace(config, env=dataclasses.replace(
+        config.env, task_kwargs={**config.env.task_kwargs, "laser_rays": 64, "way": False}))
+    seen = reobserve(rollouts, more)
+    for a, b in zip(rollouts, seen):
+        assert b.observations.shape == (a.steps + 1, 64 + 3 + 20)
+        # ray 4k of 64 points where ray k of 16 does (360 k / n degrees from straight ahead): the same wall
+        np.testing.assert_allclose(b.observations[:, :64:4], a.observations[:, :16], atol=1e-4)
+        np.testing.assert_allclose(b.observations[:, 64:67], a.observations[:, 16:19], atol=1e-5)  # the target
+        np.testing.assert_allclose(b.observations[:, 67:], a.observations[:, 22:], atol=1e-5)  # the boxes
+        np.testing.assert_array_equal(b.labels, a.labels)
+    broken = dataclasses.replace(rollouts[0], actions=rollouts[0].actions[:-1], labels=rollouts[0].labels[:-1],
+                                 rewards=rollouts[0].rewards[:-1])
+    with pytest.raises(ValueError, match="does not replay"):
+        reobserve([broken], more)

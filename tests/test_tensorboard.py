@@ -41,7 +41,7 @@ def test_an_imitation_run_writes_its_loss_and_dagger_iterations(tmp_path):
     student = tmp_path / "student.yaml"
     student.write_text(f"base: {ROOT / 'configs/procedural/generalist.yaml'}\n"
                        "env:\n  task_kwargs: {difficulty: easy, split: train, way: true, turn_forward_step: 0.0}\n"
-                       "dqn: {hidden_sizes: [32]}\n")
+                       "dqn: {hidden_sizes: [32]}\ntest: {eval_after_training: false}\n")
     cfg = ImitationConfig(student=str(student), teacher_episodes=2, rounds=1, round_episodes=2, epochs=3, workers=0,
                           runs_dir=str(tmp_path / "runs"), progress=False, dataset=False, tensorboard=True)
     run_dir = imitate(cfg)

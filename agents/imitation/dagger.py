@@ -17,7 +17,9 @@ Q-network and the features that scale its observations). Then, round by round:
    ``agents.dqn --init-from <run>`` fine-tunes it) and the round reached (``imitation.json``).
 
 A killed run continues from its last finished round (``--resume <run>``). At the end the data
-is also written as a Minari data set (``dataset/``, ``offline_dataset.py``).
+is also written as a Minari data set (``dataset/``, ``offline_dataset.py``), the student takes the
+test phase its training config sets (``eval.json``, ``tests/``), and ``sweep_run.json`` makes the
+run a row of the run table (``record.py``: experiment ``<name>-dagger``, training time the rounds').
 
 The run directory ``runs/imitation/<task>__<name>__<seed>__<time>/`` holds ``imitation.yaml``
 (these settings), ``config.yaml`` (the student's), and the files above.
@@ -45,6 +47,7 @@ from agents.imitation.config import ImitationConfig
 from agents.core.demonstrations import Demonstrations
 from agents.imitation.fit import fit
 from agents.imitation.offline_dataset import dataset_bytes, write_minari
+from agents.imitation.record import write_record
 from agents.training import checkpoint as ckpt
 from agents.training.config import Config
 from agents.training.config_io import config_from_dict, load_yaml, save_yaml, to_yaml_dict
@@ -52,6 +55,7 @@ from agents.training.envs import is_dynnav, make_env_from
 from agents.training.experience import make_features
 from agents.training.run_dir import episode_seed, new_run_dir
 from agents.training.run_lock import RunDirLock
+from agents.training.test_phase import evaluate_as_configured
 from agents.training.tensorboard_log import TensorBoardLog
 from agents.training.threads import limit_threads
 
@@ -178,6 +182,14 @@ def train(cfg: ImitationConfig) -> Path:
                                               f"{config.env.task_kwargs}, labelled by the full-state planner")
             print(f"Minari data set: {folder} ({len(data.rollouts)} episodes, {len(data)} states, "
                   f"{dataset_bytes(folder) / 1e6:.1f} MB)")
+        collector.close()
+        t0 = time.perf_counter()
+        if config.test.eval_after_training:  # the student's test phase, as a DQN run's: eval.json, tests/
+            evaluate_as_configured(config, run_dir, only_missing=True, verbose=False)
+        with open(run_dir / ROUNDS_FILE, newline="") as f:
+            train_s = sum(float(r["seconds"]) for r in csv.DictReader(f))
+        write_record(run_dir, f"{config.name}-dagger", train_s=train_s, eval_s=time.perf_counter() - t0,
+                     workers=cfg.workers, episodes=len(data.rollouts), states=len(data))
     return run_dir
 
 

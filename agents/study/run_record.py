@@ -21,6 +21,9 @@ agents/study/table.py. Tests with other task options (``tests/<key=value,...>/ev
   windows; none if the run ends at 0%).
 * training curve: per block of BLOCK training episodes the mean return, Q-loss and success
   (the last block may be shorter; a block without any finite value is ``nan``).
+* training time: the last ``wall_time_s`` of metrics.csv; a run with no training episode of its
+  own (an ``agents.imitation`` student: its metrics.csv has no row) gives it as ``train_s`` in
+  ``sweep_run.json``.
 * code commit: the commit that added the run's folder to git if it is tracked, else the current
   HEAD of the checkout this code runs from (none outside a git checkout).
 """
@@ -197,7 +200,8 @@ def read_run(run_dir: str | Path, experiment: str | None = None, commit: str | N
     if missing:
         raise ValueError(f"{run_dir}/metrics.csv lacks the column(s) {', '.join(missing)}")
     done = len(metrics.get("episode", []))
-    train_s = float(metrics["wall_time_s"][-1]) if done else 0.0
+    # a run trained without episodes of its own (agents.imitation: labels and fits) says its time in sweep_run.json
+    train_s = float(metrics["wall_time_s"][-1]) if done else float(info.get("train_s", 0.0))
     eval_s = float(info.get("eval_s", 0.0))
     training = dict(task=config["task"], commit=commit or "", run=run_dir.resolve().name,
                     converge_episode=episodes_to_converge(metrics["success"]) if done else None,
