@@ -108,3 +108,15 @@ def test_demonstrations_of_another_reward_are_refused_before_any_file(student, t
     with pytest.raises(ValueError, match="reward_mode"):
         loop.train(config)
     assert not (tmp_path / "runs").exists()
+
+
+def test_a_teacher_pattern_finds_the_newest_run_of_the_seed(tmp_path):
+    from agents.training.teacher import teacher_run
+
+    for name in ("T__g__2__20260101-000000", "T__g__2__20260102-000000", "T__g__3__20260103-000000"):
+        (tmp_path / name).mkdir()
+    pattern = str(tmp_path / "T__g__{seed}__*")
+    assert teacher_run(pattern, 2, "init_from") == tmp_path / "T__g__2__20260102-000000"
+    assert teacher_run(str(tmp_path / "plain"), 2, "init_from") == tmp_path / "plain"  # no pattern: as given
+    with pytest.raises(ValueError, match="no folder matches .*__4__"):
+        teacher_run(pattern, 4, "demonstrations")

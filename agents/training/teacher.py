@@ -10,6 +10,9 @@ episodes (``demonstrations.npz``). A DQN run fine-tunes them (``demos`` settings
   first episode (DQfD's pre-training: the Q-values learn the rewards' scale while the margin
   keeps the teacher's choices).
 
+Either may name its run with a pattern: ``{seed}`` becomes the run's seed and ``*`` matches as in
+a shell, the newest match (the run directories' names end in their start time) taken, so that
+one config serves every seed of a sweep: ``runs/imitation/DynNav-Procedural-v1__generalist__{seed}__*``.
 Both are read and checked before a run directory is made. The demonstrations must have been
 gathered in this run's task with its observation (the same state size and task options but
 for the worlds drawn) and its reward, or the stored rewards would teach another problem.
@@ -17,6 +20,7 @@ for the worlds drawn) and its reward, or the stored rewards would teach another 
 
 from __future__ import annotations
 
+import glob
 from pathlib import Path
 from typing import Optional
 
@@ -35,12 +39,24 @@ WORLD_OPTIONS = ("difficulty", "split")
 """task options that only choose which worlds are drawn: demonstrations may differ in them"""
 
 
+def teacher_run(pattern: str, seed: int, setting: str) -> Path:
+    """The folder ``pattern`` names for a run of ``seed`` (see the module docstring); ValueError if none."""
+    path = pattern.replace("{seed}", str(seed))
+    if not any(c in path for c in "*?["):
+        return Path(path)
+    matches = sorted(glob.glob(path))
+    if not matches:
+        raise ValueError(f"{setting}: no folder matches {path!r} (from {pattern!r}); run the teacher first, e.g. "
+                         f"python -m agents.imitation --config configs/imitation/generalist.yaml --seed {seed}")
+    return Path(matches[-1])
+
+
 def start_weights(config: Config) -> Optional[dict]:
     """The Q-network weights ``demos.init_from`` names (None without it)."""
     source = config.demos.init_from
     if not source:
         return None
-    return ckpt.load(source, memory=False)["learner"]["q"]
+    return ckpt.load(teacher_run(source, config.seed, "init_from"), memory=False)["learner"]["q"]
 
 
 def load_demonstrations(config: Config, features) -> Optional[DemoReplay]:
@@ -49,7 +65,7 @@ def load_demonstrations(config: Config, features) -> Optional[DemoReplay]:
     t = config.demos
     if not t.demonstrations:
         return None
-    folder = Path(t.demonstrations)
+    folder = teacher_run(t.demonstrations, config.seed, "demonstrations")
     if not (folder / DATA_FILE).is_file() or not (folder / "config.yaml").is_file():
         raise ValueError(f"demonstrations: {str(folder)!r} is not an agents.imitation run directory (it needs "
                          f"{DATA_FILE} and config.yaml)")
