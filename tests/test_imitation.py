@@ -131,3 +131,19 @@ def test_episodes_seen_again_through_other_sensors_keep_their_states(student):
                                  rewards=rollouts[0].rewards[:-1])
     with pytest.raises(ValueError, match="does not replay"):
         reobserve([broken], more)
+
+
+def test_a_student_with_memory_learns_from_whole_episodes_and_drives_with_it(tmp_path):
+    student = tmp_path / "gru.yaml"
+    student.write_text(f"base: {ROOT / 'configs/procedural/generalist.yaml'}\n"
+                       "env:\n  task_kwargs: {difficulty: easy, split: train, way: true, turn_forward_step: 0.0}\n"
+                       "dqn: {recurrent: gru, hidden_sizes: [64], recurrent_size: 64}\n"
+                       "test: {eval_after_training: false}\n")
+    cfg = settings(student, tmp_path / "runs", teacher_episodes=6, rounds=1, round_episodes=4, epochs=30)
+    run_dir = train(cfg)
+    rows = (run_dir / ROUNDS_FILE).read_text().splitlines()[1:]
+    assert float(rows[-1].split(",")[9]) > 0.8  # train accuracy over the unrolled episodes
+    data = Demonstrations.load(run_dir / DATA_FILE)
+    assert any((r.actions != r.labels).any() for r in data.rollouts[6:])  # round 1: the GRU student drove
+    summary = evaluate(run_dir, episodes=5, seed=5000, picture=False, out_dir=tmp_path / "test", verbose=False)
+    assert summary["episodes"] == 5  # the test phase drives it, its hidden state carried and reset

@@ -28,7 +28,7 @@ import yaml
 from agents.core.demonstrations import Demonstrations
 from agents.core.policy import build_q_network
 from agents.files import atomic_write_bytes
-from agents.imitation.fit import fit
+from agents.imitation.fit import fit_rollouts
 from agents.imitation.record import write_record
 from agents.imitation.reobserve import reobserve
 from agents.training import checkpoint as ckpt
@@ -77,9 +77,7 @@ def run_variant(data: Demonstrations, base: Config, settings: dict, name: str, r
     t0 = time.perf_counter()
     probe = variant_config(base, settings["experiment"], name, changes, todo[0])
     rollouts = data.rollouts if changes.get("task_kwargs") in (None, {}) else reobserve(data.rollouts, probe, progress)
-    seen = Demonstrations()
-    seen.add(rollouts, 0)
-    x, y = seen.states()
+    states = sum(r.steps for r in rollouts)
     reobserve_s = time.perf_counter() - t0
     for seed in todo:
         config = variant_config(base, settings["experiment"], name, changes, seed)
@@ -90,11 +88,11 @@ def run_variant(data: Demonstrations, base: Config, settings: dict, name: str, r
             features = make_features(env, config)
             t1 = time.perf_counter()
             net = build_q_network(config, features.input_specs, int(env.action_space.n))
-            report = fit(net, features(x).astype(np.float32), y, int(settings["epochs"]), int(settings["batch_size"]),
-                         float(settings["learning_rate"]), np.random.default_rng([seed, 7]))
+            report = fit_rollouts(net, features, rollouts, [], int(settings["epochs"]), int(settings["batch_size"]),
+                                  float(settings["learning_rate"]), np.random.default_rng([seed, 7]))
             fit_s = time.perf_counter() - t1
             save_yaml(config, run_dir / "config.yaml")
-            ckpt.save(run_dir, dict(config=to_yaml_dict(config), episode=len(data.rollouts), global_step=len(x),
+            ckpt.save(run_dir, dict(config=to_yaml_dict(config), episode=len(data.rollouts), global_step=states,
                                     wall_time_s=0.0, input_shapes=[list(s) for s, _ in features.input_specs],
                                     n_actions=int(env.action_space.n),
                                     learner=dict(q={k: v.detach().clone() for k, v in net.state_dict().items()})))
@@ -107,7 +105,7 @@ def run_variant(data: Demonstrations, base: Config, settings: dict, name: str, r
                      out_dir=run_dir / "tests" / options, task_kwargs=_options(options))
         evaluate(run_dir, episodes=settings["test_episodes"], picture=False, verbose=False, task_kwargs=_options(first))
         write_record(run_dir, f"{settings['experiment']}-{name}", train_s=reobserve_s + fit_s,
-                     eval_s=time.perf_counter() - t2, fit_accuracy=round(report.train_accuracy, 4), states=len(x))
+                     eval_s=time.perf_counter() - t2, fit_accuracy=round(report.train_accuracy, 4), states=states)
         print(f"{name} seed {seed}: fit accuracy {report.train_accuracy:.3f} in {fit_s:.0f} s "
               f"(+ {reobserve_s:.0f} s re-observing)")
 

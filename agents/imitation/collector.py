@@ -26,6 +26,7 @@ from tqdm import tqdm
 from agents.core.demonstrations import Rollout
 from agents.core.networks import q_values_of
 from agents.core.policy import build_q_network
+from agents.core.recurrent import RecurrentQNetwork
 from agents.imitation.rollouts import play
 from agents.training.config_io import config_from_dict
 from agents.training.envs import make_env_from
@@ -47,9 +48,17 @@ class EpisodePlayer:
         self.features = make_features(self.env, config)
         self.net = build_q_network(config, self.features.input_specs, int(self.env.action_space.n))
         self.teacher = PlannerController()
+        self.hidden = None  # a recurrent student's state in the current episode
+
+    def start(self) -> None:
+        """An episode starts: a recurrent student forgets the last one."""
+        self.hidden = None
 
     def act(self, obs: np.ndarray) -> int:
-        """The student's greedy action."""
+        """The student's greedy action (a recurrent student's hidden state moves one step on)."""
+        if isinstance(self.net, RecurrentQNetwork):
+            q, self.hidden = self.net.step(self.features(obs), self.hidden)
+            return int(np.argmax(q))
         return int(np.argmax(q_values_of(self.net, self.features(obs))))
 
     def play(self, jobs: Sequence[tuple[int, float]], weights: Optional[dict]) -> list[Rollout]:
@@ -58,7 +67,7 @@ class EpisodePlayer:
         if weights is not None:
             self.net.load_state_dict({k: torch.as_tensor(v) for k, v in weights.items()})
         student = self.act if weights is not None else None
-        return [play(self.env, self.teacher, student, beta, seed) for seed, beta in jobs]
+        return [play(self.env, self.teacher, student, beta, seed, start=self.start) for seed, beta in jobs]
 
     def close(self) -> None:
         self.env.close()

@@ -45,7 +45,7 @@ from agents.files import atomic_write_bytes
 from agents.imitation.collector import Collector
 from agents.imitation.config import ImitationConfig
 from agents.core.demonstrations import Demonstrations
-from agents.imitation.fit import fit
+from agents.imitation.fit import fit_rollouts
 from agents.imitation.offline_dataset import dataset_bytes, write_minari
 from agents.imitation.record import write_record
 from agents.training import checkpoint as ckpt
@@ -77,24 +77,20 @@ def student_config(cfg: ImitationConfig) -> Config:
     if not is_dynnav(config.task):
         raise ValueError(f"{cfg.student}: the teacher (the full-state planner) plans in dynnav tasks; task "
                          f"{config.task!r} is not one")
-    if config.camera.camera_frames or config.dqn.recurrent or config.env.state_frames != 1:
-        raise ValueError(f"{cfg.student}: the student reads one state vector (no camera_frames, recurrent or "
-                         f"state_frames > 1 yet)")
+    if config.camera.camera_frames or config.env.state_frames != 1:
+        raise ValueError(f"{cfg.student}: the student reads one state vector per step (no camera_frames or "
+                         f"state_frames > 1 yet; recurrent remembers the steps before)")
     if config.env.task_kwargs.get("control_mode", "discrete_drive") != "discrete_drive":
         raise ValueError(f"{cfg.student}: the teacher drives the discrete drive; control_mode must be discrete_drive")
     return config
 
 
-def _split(data: Demonstrations, every: int):
-    """(fit states, labels), (held-out states, labels): every ``every``-th episode held out."""
-    obs, labels, held_obs, held_labels = [], [], [], []
+def _split(data: Demonstrations, every: int) -> tuple[list, list]:
+    """(fitted rollouts, held-out rollouts): every ``every``-th episode held out (none with 0)."""
+    fitted, held = [], []
     for i, r in enumerate(data.rollouts):
-        held = every and i % every == every - 1
-        (held_obs if held else obs).append(r.observations[:-1])
-        (held_labels if held else labels).append(r.labels)
-    cat = lambda parts, width: np.concatenate(parts) if parts else np.zeros((0, *width))  # noqa: E731
-    d = data.rollouts[0].observations.shape[1:]
-    return (cat(obs, d), cat(labels, ())), (cat(held_obs, d), cat(held_labels, ()).astype(np.int64))
+        (held if every and i % every == every - 1 else fitted).append(r)
+    return fitted, held
 
 
 def _resume(cfg: ImitationConfig, cleanup: contextlib.ExitStack):
@@ -147,7 +143,7 @@ def train(cfg: ImitationConfig) -> Path:
             rollouts = collector.play(jobs, None if round_ == 0 else net.state_dict(), progress=cfg.progress,
                                       description=f"round {round_} (beta {beta:.2f})")
             data.add(rollouts, round_)
-            (x, y), (hx, hy) = _split(data, cfg.validation_every)
+            fitted, held = _split(data, cfg.validation_every)
 
             def on_epoch(loss: float) -> None:
                 nonlocal epochs_done
@@ -155,8 +151,8 @@ def train(cfg: ImitationConfig) -> Path:
                 if board is not None:
                     board.scalars(epochs_done, {"imitation/loss": loss})
 
-            report = fit(net, features(x).astype(np.float32), y, cfg.epochs, cfg.batch_size, cfg.learning_rate,
-                         np.random.default_rng([cfg.seed, round_]), (features(hx).astype(np.float32), hy), on_epoch)
+            report = fit_rollouts(net, features, fitted, held, cfg.epochs, cfg.batch_size, cfg.learning_rate,
+                                  np.random.default_rng([cfg.seed, round_]), on_epoch)
             outcomes = [r.outcome for r in rollouts]
             labels = sum(r.steps for r in rollouts)
             row = dict(round=round_, beta=round(beta, 4), episodes=n, success=outcomes.count("success") / n,

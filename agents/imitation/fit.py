@@ -4,7 +4,9 @@ The student's network is a DQN Q-network (``agents.core.policy.build_q_network``
 are read as the logits of the teacher's action, trained with the cross-entropy, so its greedy
 action (the argmax) is the action it imitates. ``fit`` runs ``epochs`` passes over the data in
 shuffled minibatches (Adam) and reports the loss and the accuracy on the states it fitted and
-on held-out ones.
+on held-out ones. A student with memory (``RecurrentQNetwork``) learns from whole episodes
+instead (``fit_sequences``): minibatches of episodes, padded to the longest, each unrolled from
+a zero hidden state as the student will act, the loss averaged over the real steps.
 """
 
 from __future__ import annotations
@@ -16,6 +18,8 @@ import numpy as np
 import torch
 from torch import nn
 from torch.nn import functional as F
+
+from agents.core.recurrent import RecurrentQNetwork
 
 
 @dataclass
@@ -65,3 +69,77 @@ def fit(net: nn.Module, x: np.ndarray, labels: np.ndarray, epochs: int, batch_si
             on_epoch(loss_sum / max(batches, 1))
     validation = accuracy(net, *held_out) if held_out is not None and len(held_out[0]) else None
     return FitReport(loss_sum / max(batches, 1), accuracy(net, x, labels), validation, updates)
+
+
+def _padded(episodes: list[np.ndarray], labels: list[np.ndarray]):
+    """(x (b, t, d), labels (b, t), mask (b, t)) of episodes padded to the longest."""
+    t = max(len(e) for e in episodes)
+    x = np.zeros((len(episodes), t, episodes[0].shape[1]), dtype=np.float32)
+    y = np.zeros((len(episodes), t), dtype=np.int64)
+    mask = np.zeros((len(episodes), t), dtype=np.float32)
+    for i, (e, lab) in enumerate(zip(episodes, labels)):
+        x[i, :len(e)], y[i, :len(e)], mask[i, :len(e)] = e, lab, 1.0
+    return torch.as_tensor(x), torch.as_tensor(y), torch.as_tensor(mask)
+
+
+def sequence_accuracy(net: nn.Module, episodes: list[np.ndarray], labels: list[np.ndarray], batch: int = 64) -> float:
+    """Share of the steps where the recurrent ``net``, unrolled over each episode, picks the label."""
+    if not episodes:
+        return float("nan")
+    net.eval()
+    hits = total = 0
+    with torch.inference_mode():
+        for i in range(0, len(episodes), batch):
+            x, y, mask = _padded(episodes[i:i + batch], labels[i:i + batch])
+            q, _ = net(x)
+            hits += int(((q.argmax(-1) == y).float() * mask).sum())
+            total += int(mask.sum())
+    return hits / total
+
+
+def fit_sequences(net: nn.Module, episodes: list[np.ndarray], labels: list[np.ndarray], epochs: int, batch_size: int,
+                  learning_rate: float, rng: np.random.Generator,
+                  held_out: Optional[tuple[list[np.ndarray], list[np.ndarray]]] = None,
+                  on_epoch: Optional[Callable[[float], None]] = None) -> FitReport:
+    """``fit`` for a recurrent student: ``episodes`` (each (steps, d), scaled) and their labels;
+    ``batch_size`` counts states, so a minibatch holds about batch_size / mean length episodes."""
+    optimizer = torch.optim.Adam(net.parameters(), lr=learning_rate)
+    per_batch = max(1, int(round(batch_size / np.mean([len(e) for e in episodes]))))
+    updates, loss_sum, batches = 0, 0.0, 0
+    for _ in range(epochs):
+        net.train()
+        order = rng.permutation(len(episodes))
+        loss_sum, batches = 0.0, 0
+        for i in range(0, len(order), per_batch):
+            pick = order[i:i + per_batch]
+            x, y, mask = _padded([episodes[j] for j in pick], [labels[j] for j in pick])
+            q, _ = net(x)
+            each = F.cross_entropy(q.reshape(-1, q.shape[-1]), y.reshape(-1), reduction="none")
+            loss = (each * mask.reshape(-1)).sum() / mask.sum()
+            optimizer.zero_grad(set_to_none=True)
+            loss.backward()
+            optimizer.step()
+            loss_sum, batches, updates = loss_sum + loss.item(), batches + 1, updates + 1
+        if on_epoch is not None:
+            on_epoch(loss_sum / max(batches, 1))
+    validation = sequence_accuracy(net, *held_out) if held_out is not None and held_out[0] else None
+    return FitReport(loss_sum / max(batches, 1), sequence_accuracy(net, episodes, labels), validation, updates)
+
+
+def fit_rollouts(net: nn.Module, features, rollouts: list, held_out: list, epochs: int, batch_size: int,
+                 learning_rate: float, rng: np.random.Generator,
+                 on_epoch: Optional[Callable[[float], None]] = None) -> FitReport:
+    """Fit ``net`` to the labels of ``rollouts`` (``Rollout``s), their observations scaled by
+    ``features``: state by state, or episode by episode for a recurrent network; ``held_out``:
+    rollouts to report the accuracy on (may be empty)."""
+    def scaled(r):
+        return features(r.observations[:-1]).astype(np.float32)
+
+    if isinstance(net, RecurrentQNetwork):
+        held = ([scaled(r) for r in held_out], [r.labels for r in held_out]) if held_out else None
+        return fit_sequences(net, [scaled(r) for r in rollouts], [r.labels for r in rollouts], epochs, batch_size,
+                             learning_rate, rng, held, on_epoch)
+    x, y = np.concatenate([scaled(r) for r in rollouts]), np.concatenate([r.labels for r in rollouts])
+    held = (np.concatenate([scaled(r) for r in held_out]), np.concatenate([r.labels for r in held_out])) if held_out \
+        else None
+    return fit(net, x, y, epochs, batch_size, learning_rate, rng, held, on_epoch)

@@ -24,23 +24,27 @@ from dynnav_tasks.outcomes import outcome_of
 
 
 def play(env, teacher: PlannerController, student: Optional[Callable[[np.ndarray], int]], beta: float,
-         seed: int, options: Optional[dict] = None) -> Rollout:
+         seed: int, options: Optional[dict] = None, start: Optional[Callable[[], None]] = None) -> Rollout:
     """One episode of ``env`` (a ``NumpyWrapper``-wrapped dynnav task on the discrete drive) from
     ``seed``: in each state the teacher labels, and its action is taken with probability ``beta``
     (drawn from ``seed``), else ``student(observation)``'s (``student`` may be None only with
-    ``beta`` 1)."""
+    ``beta`` 1; with memory, it sees every observation: it is asked in every state, whoever
+    acts). ``start()``, if given, is called after the reset (a student with memory forgets)."""
     if student is None and beta < 1.0:
         raise ValueError("a rollout with beta < 1 needs a student to act")
     rng = np.random.default_rng([seed, 0xDA66E7])
     obs, _ = env.reset(seed=seed, options=options)
     task = env.unwrapped
     teacher.start(task)
+    if start is not None:
+        start()
     observations, actions, labels, rewards, planning = [obs], [], [], [], 0.0
     while True:
         t = time.perf_counter()
         label = int(teacher.act(task))
         planning += time.perf_counter() - t
-        action = label if rng.random() < beta else int(student(obs))
+        own = int(student(obs)) if student is not None else label  # a student with memory reads every step
+        action = label if rng.random() < beta else own
         obs, reward, terminated, truncated, info = env.step(action)
         observations.append(obs)
         actions.append(action)
