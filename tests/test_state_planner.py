@@ -127,3 +127,23 @@ def test_auto_searches_along_the_straight_line_in_every_study_world_and_refuses_
     assert StatePlanner(world, heuristic="way").uses_way
     with pytest.raises(ValueError, match="heuristic must be one of"):
         StatePlanner(world, heuristic="grid")
+
+
+def test_a_tracked_forecast_sees_the_nearest_boxes_at_constant_velocity():
+    from dynnav_tasks.baselines.tracked_forecast import SPREAD, UNSEEN, TrackedForecast
+    from dynnav_tasks.motion import BackAndForth
+    from dynnav_tasks.world import Arena, Obstacles, World
+
+    moving = tuple(Obstacles((0.25, 0.25), BackAndForth(center=(3.0, y), direction=(1.0, 0.0), amplitude=2.0,
+                                                        speed=0.1)) for y in (0.0, 5.0))
+    forecast = TrackedForecast(World(targets=(Static((5.0, 5.0)),), obstacles=moving, arena=Arena((-6, 6), (-6, 6))),
+                               k=1)
+    first = forecast.boxes(np.array([[2.0, 0.0], [5.0, 5.0]]), 3, robot=(0.0, 0.0))
+    np.testing.assert_allclose(first[3, 0], [[2.0 - 0.25 - 3 * SPREAD, -0.25 - 3 * SPREAD],
+                                             [2.0 + 0.25 + 3 * SPREAD, 0.25 + 3 * SPREAD]])  # no velocity yet
+    assert (first[:, 1] == UNSEEN).all()  # the second box is not among the k = 1 nearest: unseen
+    second = forecast.boxes(np.array([[2.1, 0.0], [5.0, 5.0]]), 3, robot=(0.0, 0.0))
+    # by hand: 0.1 m per step along x; at step 2 the centre is at 2.3, the box swept from step 1 (2.2)
+    lo, hi = second[2, 0]
+    assert lo[0] == pytest.approx(2.2 - 0.25 - 1 * SPREAD) and hi[0] == pytest.approx(2.3 + 0.25 + 2 * SPREAD)
+    assert lo[1] == pytest.approx(-0.25 - 2 * SPREAD) and hi[1] == pytest.approx(0.25 + 2 * SPREAD)  # y: it grows

@@ -43,6 +43,7 @@ import numpy as np
 import tyro
 
 from dynnav_tasks.baselines.episodes import ROBOT_RADIUS, EpisodeResults, run_episodes
+from dynnav_tasks.baselines.tracked_forecast import TrackedForecast
 from dynnav_tasks.baselines.way_grid import StaticBuckets, WayGrid, static_boxes
 from dynnav_tasks.motion import BackAndForth, RandomInRect, Route, Static, wrap_angle
 
@@ -67,9 +68,10 @@ class ObstacleForecast:
     def reset(self) -> None:
         self.previous = None
 
-    def boxes(self, xy: np.ndarray, horizon: int) -> np.ndarray:
+    def boxes(self, xy: np.ndarray, horizon: int, robot=None) -> np.ndarray:
         """(horizon + 1, n, 2, 2): for step k, the box each obstacle may cover between steps
-        k - 1 and k (step 0: where it is), grown by its half size."""
+        k - 1 and k (step 0: where it is), grown by its half size (``robot``: unused, every
+        box is known)."""
         centres = np.empty((horizon + 1, len(self.specs), 2, 2))
         for i, (spec, half) in enumerate(self.specs):
             prev = None if self.previous is None else self.previous[i]
@@ -162,6 +164,9 @@ class StatePlanner:
     remember: bool = True
     """False: forecast from the current state alone (every speed and way a box may have), as an
     agent fed one state vector must; True: also from the previous step's positions"""
+    tracked: int = 0
+    """0: forecast every box from its motion (the full state); k > 0: see only the k nearest boxes and
+    forecast them at constant velocity (``tracked_forecast.py``: what the egocentric state tells)"""
     heuristic: str = "auto"
     """"straight": the straight line to the target; "way": the way through the static layout
     on an occupancy grid; "auto": "straight" in worlds of at most ``STUDY_STATIC_BOXES`` static
@@ -170,7 +175,8 @@ class StatePlanner:
     def __post_init__(self):
         if self.heuristic not in HEURISTICS:
             raise ValueError(f"heuristic must be one of {HEURISTICS}; got {self.heuristic!r}")
-        self.forecast = ObstacleForecast(self.world, remember=self.remember)
+        self.forecast = (TrackedForecast(self.world, self.tracked) if self.tracked
+                         else ObstacleForecast(self.world, remember=self.remember))
         arena = self.world.arena
         self._x, self._y = arena.x_range, arena.y_range
         self._static = static_boxes(self.world)
@@ -212,7 +218,8 @@ class StatePlanner:
         x0, y0 = float(state[n]), float(state[n + 1])
         tx, ty = float(state[n + 2]), float(state[n + 3])
         moving = np.asarray(state[n + 4:], float).reshape(-1, 2)
-        boxes = self.forecast.boxes(moving, self.horizon) if len(moving) else np.zeros((self.horizon + 1, 0, 2, 2))
+        boxes = (self.forecast.boxes(moving, self.horizon, robot=(x0, y0)) if len(moving)
+                 else np.zeros((self.horizon + 1, 0, 2, 2)))
         boxes = [step.reshape(-1, 4).tolist() for step in boxes]  # per step: [lo_x, lo_y, hi_x, hi_y] per box
 
         def h(x, y, yaw_):
@@ -300,6 +307,9 @@ class Args:
     """seed of the first episode"""
     max_expansions: int = StatePlanner.max_expansions
     """search budget per step (A* nodes)"""
+    tracked: int = 0
+    """0: the full state; K > 0: plan seeing only the K nearest boxes at constant velocity (what a navigator
+    reading the egocentric state knows); its --out entries are named state_planner_tracked<K>/..."""
     memoryless: bool = False
     """forecast the boxes from the current state alone, without the previous step's positions
     (the information an agent fed one state vector has)"""
@@ -314,12 +324,13 @@ def main(args: Args) -> None:
     from dynnav_tasks import PROCEDURAL_TASK_IDS, TASK_IDS
     from dynnav_tasks.baselines.cli import run_over_cells, run_over_tasks
 
-    planner = dict(max_expansions=args.max_expansions, remember=not args.memoryless)
+    planner = dict(max_expansions=args.max_expansions, remember=not args.memoryless, tracked=args.tracked)
     if args.task in PROCEDURAL_TASK_IDS:
         run_over_cells(args.task, args.difficulty, args.split, args.episodes, args.first_seed,
                        lambda d, s, seeds: run_planner(args.task, seeds, progress=True, label=f"{args.task} {d} {s}",
                                                        task_kwargs=dict(difficulty=d, split=s), **planner),
-                       controller="state_planner", out=args.out)
+                       controller=f"state_planner_tracked{args.tracked}" if args.tracked else "state_planner",
+                       out=args.out)
         return
     if args.difficulty or args.split:
         raise SystemExit(f"error: --difficulty and --split apply to a procedural task ({', '.join(PROCEDURAL_TASK_IDS)})")
