@@ -84,3 +84,26 @@ def test_mixed_difficulty_draws_each_difficulty_and_refuses_other_splits():
         env.close()
     with pytest.raises(ValueError, match="split 'test' needs one difficulty"):
         gym.make("DynNav-Procedural-v1", difficulty="mixed", split="test")
+
+
+def test_the_procedural_task_plays_a_study_world_through_its_own_state():
+    env = dynnav_tasks.NumpyWrapper(gym.make("DynNav-Procedural-v1", study_world=5.3, way=True))  # as options read it
+    try:
+        targets = set()
+        for seed in range(8):
+            obs, _ = env.reset(seed=seed)
+            world = env.unwrapped.world
+            assert world.moving_obstacle_count == 2 and tuple(world.arena.size) == (6.5, 6.5)
+            targets.add(world.targets[0].at)
+            assert obs.shape == (42,) and env.unwrapped.world_seed is None
+        assert targets == {(3.0, 3.0), (3.0, 1.0)}  # the seed draws one of 5.3's two targets
+        with pytest.raises(ValueError, match="study_world"):
+            env.reset(options={"world_seed": 3})
+    finally:
+        env.close()
+    transfer = gym.make("DynNav-Procedural-v1", study_world="5.3-transfer")
+    try:
+        transfer.reset(seed=0)
+        assert transfer.unwrapped.world.moving_obstacle_count == 4
+    finally:
+        transfer.close()

@@ -78,10 +78,18 @@ class MovingObstaclesEnv(NavEnv):
         ):
             raise ValueError(f"obstacle_speed_scale must be a number in (0, 4] (it multiplies the speed range "
                              f"0.05-0.5 m per step); got {obstacle_speed_scale!r}")
-        if (obstacle_count, obstacle_speed_scale) != (2, 1.0):
-            (group,) = self.world.obstacles
-            low, high = group.motion.speed_range
-            motion = replace(group.motion, count=int(obstacle_count),
-                             speed_range=(low * obstacle_speed_scale, high * obstacle_speed_scale))
-            self.world = replace(self.world, obstacles=(replace(group, motion=motion),))
+        self.world = world_with(obstacle_count, obstacle_speed_scale)
         super().__init__(*args, **kwargs)
+
+
+def world_with(obstacle_count: int = 2, obstacle_speed_scale: float = 1.0) -> World:
+    """World 5.3 with ``obstacle_count`` boxes on its loop at ``obstacle_speed_scale`` times its speeds
+    (the options' defaults: the world itself)."""
+    world = MovingObstaclesEnv.world
+    if (obstacle_count, obstacle_speed_scale) == (2, 1.0):
+        return world
+    (group,) = world.obstacles
+    low, high = group.motion.speed_range
+    motion = replace(group.motion, count=int(obstacle_count),
+                     speed_range=(low * obstacle_speed_scale, high * obstacle_speed_scale))
+    return replace(world, obstacles=(replace(group, motion=motion),))

@@ -2,6 +2,7 @@
 
 import math
 import numbers
+from dataclasses import replace
 from typing import Optional
 
 import gymnasium as gym
@@ -21,6 +22,7 @@ from ..scene_pool import PoolSizes, ScenePool
 from ..snapshot import StepSnapshot
 from ..way_sense import WaySense
 from ..world import World
+from . import moving_obstacles
 
 DEFAULT_OBSTACLE_K = 4
 """moving obstacles in the egocentric state unless ``obstacle_k`` says otherwise"""
@@ -32,6 +34,10 @@ WORLD_SEED_DRAW = 2**31
 """train and ood world seeds (train: the index k of ``train_world_seed``) are drawn below this"""
 MIXED = "mixed"
 """the train split's ``difficulty`` that draws each world's difficulty, evenly, from the three"""
+STUDY_WORLDS = {"5.3": dict(obstacle_count=2, obstacle_speed_scale=1.0),
+                "5.3-transfer": dict(obstacle_count=4, obstacle_speed_scale=1.5)}
+"""``study_world``'s choices: world 5.3 (``DynNav-MovingObstacles-v1``) and its transfer test's
+version (twice the boxes at 1.5 times their speed), each with the options that make it"""
 
 
 @register_env("DynNav-Procedural-v1", max_episode_steps=NavEnv.max_episode_steps)
@@ -56,6 +62,10 @@ class ProceduralEnv(NavEnv):
       0 to len - 1 cover the list once; an unseeded reset draws one
     * ``split="ood"``: ``spec_for(difficulty, "ood")``: larger arenas, more and faster
       obstacles, layouts the train distribution never has; world seed drawn from the seed
+    * ``study_world="5.3"`` or ``"5.3-transfer"``: every episode plays that study world instead
+      (``STUDY_WORLDS``; its target drawn from the reset's seed among the world's two, as 5.3
+      draws it, its start and motions as 5.3's), read through this task's state: how a navigator
+      of generated worlds does in the study's own
     * ``options={"world_seed": k}`` picks world k of the split (a test seed in the test split;
       never a test seed in the train split); ``options={"world": w}`` shows any ``World`` of
       this task's kind (0.5 m blocks and boxes, one target, arena sides up to 20 m)
@@ -96,6 +106,7 @@ class ProceduralEnv(NavEnv):
         split: str = "train",
         obstacle_k: int = DEFAULT_OBSTACLE_K,
         way: bool = False,
+        study_world: str = "",
         obs_mode: Optional[str] = None,
         **kwargs,
     ):
@@ -107,6 +118,10 @@ class ProceduralEnv(NavEnv):
         if not isinstance(way, bool):
             raise ValueError(f"way must be True or False (the way through the static layout in the state); got {way!r}")
         self.way = way
+        # a task-options string reads study_world=5.3 as the number 5.3: the name is its text
+        study_world = str(study_world) if isinstance(study_world, (int, float)) and not isinstance(study_world, bool) \
+            else study_world
+        self.study_world = check_choice(study_world, ("", *STUDY_WORLDS), "study_world") if study_world else ""
         if isinstance(obstacle_k, bool) or not isinstance(obstacle_k, numbers.Integral) or not (
             0 <= obstacle_k <= generation.MAX_MOVING_OBSTACLES
         ):
@@ -143,6 +158,9 @@ class ProceduralEnv(NavEnv):
 
     def _check_request(self, options: dict) -> Optional[tuple]:
         """("world", World) or ("seed", k) from ``options``, validated; None: draw a world."""
+        if self.study_world and ("world" in options or "world_seed" in options):
+            raise ValueError(f"this task plays study world {self.study_world!r} (study_world); its reset takes no "
+                             f"'world' or 'world_seed'")
         if "world" in options and "world_seed" in options:
             raise ValueError("give reset's options either 'world' or 'world_seed', not both")
         if "world" in options:
@@ -193,7 +211,11 @@ class ProceduralEnv(NavEnv):
     def _initialize_episode(self, env_idx, options: dict):
         request, self._request = self._request, None
         self._next_difficulty = self.world_difficulty
-        if request is not None and request[0] == "world":
+        if self.study_world:
+            world = moving_obstacles.world_with(**STUDY_WORLDS[self.study_world])
+            target = world.targets[int(self.np_random.integers(len(world.targets)))]
+            self._show(replace(world, targets=(target,)), None)
+        elif request is not None and request[0] == "world":
             self._show(request[1], None)
         else:
             seed = request[1] if request is not None else self._draw_world_seed()
