@@ -139,7 +139,8 @@ def test_a_student_with_memory_learns_from_whole_episodes_and_drives_with_it(tmp
                        "env:\n  task_kwargs: {difficulty: easy, split: train, way: true, turn_forward_step: 0.0}\n"
                        "dqn: {recurrent: gru, hidden_sizes: [64], recurrent_size: 64}\n"
                        "test: {eval_after_training: false}\n")
-    cfg = settings(student, tmp_path / "runs", teacher_episodes=6, rounds=1, round_episodes=4, epochs=30)
+    cfg = settings(student, tmp_path / "runs", teacher_episodes=6, rounds=1, round_episodes=4, epochs=30,
+                   validation_every=0)  # every episode fitted: the accuracy is the fit's
     run_dir = train(cfg)
     rows = (run_dir / ROUNDS_FILE).read_text().splitlines()[1:]
     assert float(rows[-1].split(",")[9]) > 0.8  # train accuracy over the unrolled episodes
@@ -147,3 +148,24 @@ def test_a_student_with_memory_learns_from_whole_episodes_and_drives_with_it(tmp
     assert any((r.actions != r.labels).any() for r in data.rollouts[6:])  # round 1: the GRU student drove
     summary = evaluate(run_dir, episodes=5, seed=5000, picture=False, out_dir=tmp_path / "test", verbose=False)
     assert summary["episodes"] == 5  # the test phase drives it, its hidden state carried and reset
+
+
+def test_a_fit_keeps_the_epoch_that_agrees_best_with_held_out_labels():
+    import torch
+
+    from agents.imitation.fit import accuracy, fit
+
+    rng = np.random.default_rng(0)
+    x = rng.normal(size=(400, 4)).astype(np.float32)
+    labels = (x[:, 0] > 0).astype(np.int64)
+    noisy = np.where(rng.random(400) < 0.4, rng.integers(0, 3, 400), labels)  # 40% of the fitted labels at random
+    held_x = rng.normal(size=(300, 4)).astype(np.float32)
+    held = (held_x[:, 0] > 0).astype(np.int64)
+    scores = []
+    torch.manual_seed(0)
+    net = torch.nn.Sequential(torch.nn.Linear(4, 256), torch.nn.ReLU(), torch.nn.Linear(256, 3))
+    report = fit(net, x, noisy, 60, 32, 0.01, np.random.default_rng(1), (held_x, held),
+                 on_epoch=lambda _: scores.append(accuracy(net, held_x, held)))
+    assert report.validation_accuracy == pytest.approx(max(scores))  # the best epoch's score ...
+    assert accuracy(net, held_x, held) == pytest.approx(max(scores))  # ... and its weights, restored
+    assert report.best_epoch == int(np.argmax(scores)) + 1 and report.best_epoch < 60

@@ -39,6 +39,8 @@ from agents.training.experience import make_features
 from agents.training.test_phase import evaluate
 from agents.training.threads import limit_threads
 
+HELD_OUT = 10
+"""every this many-th episode is held out of a row's fit, to keep its best epoch (early stopping)"""
 KEYS = ("description", "experiment", "seeds", "epochs", "batch_size", "learning_rate", "test_on", "test_episodes",
         "variants")
 
@@ -88,7 +90,9 @@ def run_variant(data: Demonstrations, base: Config, settings: dict, name: str, r
             features = make_features(env, config)
             t1 = time.perf_counter()
             net = build_q_network(config, features.input_specs, int(env.action_space.n))
-            report = fit_rollouts(net, features, rollouts, [], int(settings["epochs"]), int(settings["batch_size"]),
+            fitted = [r for i, r in enumerate(rollouts) if i % HELD_OUT != HELD_OUT - 1]
+            held = [r for i, r in enumerate(rollouts) if i % HELD_OUT == HELD_OUT - 1]
+            report = fit_rollouts(net, features, fitted, held, int(settings["epochs"]), int(settings["batch_size"]),
                                   float(settings["learning_rate"]), np.random.default_rng([seed, 7]))
             fit_s = time.perf_counter() - t1
             save_yaml(config, run_dir / "config.yaml")
@@ -105,9 +109,11 @@ def run_variant(data: Demonstrations, base: Config, settings: dict, name: str, r
                      out_dir=run_dir / "tests" / options, task_kwargs=_options(options))
         evaluate(run_dir, episodes=settings["test_episodes"], picture=False, verbose=False, task_kwargs=_options(first))
         write_record(run_dir, f"{settings['experiment']}-{name}", train_s=reobserve_s + fit_s,
-                     eval_s=time.perf_counter() - t2, fit_accuracy=round(report.train_accuracy, 4), states=states)
-        print(f"{name} seed {seed}: fit accuracy {report.train_accuracy:.3f} in {fit_s:.0f} s "
-              f"(+ {reobserve_s:.0f} s re-observing)")
+                     eval_s=time.perf_counter() - t2, fit_accuracy=round(report.train_accuracy, 4),
+                     held_out_accuracy=round(report.validation_accuracy, 4), best_epoch=report.best_epoch,
+                     states=states)
+        print(f"{name} seed {seed}: accuracy {report.train_accuracy:.3f}, held out {report.validation_accuracy:.3f} "
+              f"(epoch {report.best_epoch}), fit {fit_s:.0f} s (+ {reobserve_s:.0f} s re-observing)")
 
 
 def _options(entry: str) -> dict:

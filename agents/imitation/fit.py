@@ -4,7 +4,9 @@ The student's network is a DQN Q-network (``agents.core.policy.build_q_network``
 are read as the logits of the teacher's action, trained with the cross-entropy, so its greedy
 action (the argmax) is the action it imitates. ``fit`` runs ``epochs`` passes over the data in
 shuffled minibatches (Adam) and reports the loss and the accuracy on the states it fitted and
-on held-out ones. A student with memory (``RecurrentQNetwork``) learns from whole episodes
+on held-out ones. Given held-out states, it keeps the weights of the epoch that agreed best
+with their labels (early stopping): the last epochs of a long fit learn the fitted states by
+heart and agree less with new ones. A student with memory (``RecurrentQNetwork``) learns from whole episodes
 instead (``fit_sequences``): minibatches of episodes, padded to the longest, each unrolled from
 a zero hidden state as the student will act, the loss averaged over the real steps.
 """
@@ -31,6 +33,31 @@ class FitReport:
     train_accuracy: float
     validation_accuracy: Optional[float]
     updates: int
+    best_epoch: Optional[int] = None
+    """the epoch (from 1) whose weights were kept, by held-out accuracy (None without held-out states)"""
+
+
+class _BestEpoch:
+    """The weights of the epoch with the best held-out accuracy so far (early stopping)."""
+
+    def __init__(self, net: nn.Module, score: Optional[Callable[[], float]]):
+        self.net, self.score = net, score
+        self.best, self.epoch, self.weights = -1.0, None, None
+
+    def seen(self, epoch: int) -> None:
+        if self.score is None:
+            return
+        value = self.score()
+        if value > self.best:
+            self.best, self.epoch = value, epoch
+            self.weights = {k: v.detach().clone() for k, v in self.net.state_dict().items()}
+
+    def restore(self) -> Optional[float]:
+        """Load the best epoch's weights; its held-out accuracy (None without held-out states)."""
+        if self.weights is None:
+            return None
+        self.net.load_state_dict(self.weights)
+        return self.best
 
 
 def accuracy(net: nn.Module, x: np.ndarray, labels: np.ndarray, batch: int = 4096) -> float:
@@ -54,7 +81,8 @@ def fit(net: nn.Module, x: np.ndarray, labels: np.ndarray, epochs: int, batch_si
     optimizer = torch.optim.Adam(net.parameters(), lr=learning_rate)
     xt, yt = torch.as_tensor(x), torch.as_tensor(labels)
     updates, loss_sum, batches = 0, 0.0, 0
-    for _ in range(epochs):
+    keep = _BestEpoch(net, (lambda: accuracy(net, *held_out)) if held_out is not None and len(held_out[0]) else None)
+    for epoch in range(1, epochs + 1):
         net.train()
         order = torch.as_tensor(rng.permutation(len(x)))
         loss_sum, batches = 0.0, 0
@@ -67,8 +95,9 @@ def fit(net: nn.Module, x: np.ndarray, labels: np.ndarray, epochs: int, batch_si
             loss_sum, batches, updates = loss_sum + loss.item(), batches + 1, updates + 1
         if on_epoch is not None:
             on_epoch(loss_sum / max(batches, 1))
-    validation = accuracy(net, *held_out) if held_out is not None and len(held_out[0]) else None
-    return FitReport(loss_sum / max(batches, 1), accuracy(net, x, labels), validation, updates)
+        keep.seen(epoch)
+    validation = keep.restore()
+    return FitReport(loss_sum / max(batches, 1), accuracy(net, x, labels), validation, updates, keep.epoch)
 
 
 def _padded(episodes: list[np.ndarray], labels: list[np.ndarray]):
@@ -106,7 +135,8 @@ def fit_sequences(net: nn.Module, episodes: list[np.ndarray], labels: list[np.nd
     optimizer = torch.optim.Adam(net.parameters(), lr=learning_rate)
     per_batch = max(1, int(round(batch_size / np.mean([len(e) for e in episodes]))))
     updates, loss_sum, batches = 0, 0.0, 0
-    for _ in range(epochs):
+    keep = _BestEpoch(net, (lambda: sequence_accuracy(net, *held_out)) if held_out is not None and held_out[0] else None)
+    for epoch in range(1, epochs + 1):
         net.train()
         order = rng.permutation(len(episodes))
         loss_sum, batches = 0.0, 0
@@ -122,8 +152,10 @@ def fit_sequences(net: nn.Module, episodes: list[np.ndarray], labels: list[np.nd
             loss_sum, batches, updates = loss_sum + loss.item(), batches + 1, updates + 1
         if on_epoch is not None:
             on_epoch(loss_sum / max(batches, 1))
-    validation = sequence_accuracy(net, *held_out) if held_out is not None and held_out[0] else None
-    return FitReport(loss_sum / max(batches, 1), sequence_accuracy(net, episodes, labels), validation, updates)
+        keep.seen(epoch)
+    validation = keep.restore()
+    return FitReport(loss_sum / max(batches, 1), sequence_accuracy(net, episodes, labels), validation, updates,
+                     keep.epoch)
 
 
 def fit_rollouts(net: nn.Module, features, rollouts: list, held_out: list, epochs: int, batch_size: int,
