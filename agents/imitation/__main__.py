@@ -16,12 +16,16 @@ import tyro
 
 from agents.files import DiskFullError
 from agents.imitation.config import ImitationConfig, load_yaml
-from agents.imitation.dagger import train
+from agents.imitation.dagger import saved_settings, train
 
 
 def parse_args(argv: list[str]) -> ImitationConfig:
-    """Flags over the ``--config`` file's settings over the defaults."""
+    """Flags over the ``--config`` file's settings (or, with ``--resume``, the run's own) over the defaults."""
     values = {}
+    resume = next((argv[i + 1] for i, a in enumerate(argv[:-1]) if a == "--resume"), None) or next(
+        (a.split("=", 1)[1] for a in argv if a.startswith("--resume=")), None)
+    if resume is not None:
+        values = saved_settings(resume)
     for i, arg in enumerate(argv):
         if arg == "--config" and i + 1 < len(argv):
             values = load_yaml(argv[i + 1])

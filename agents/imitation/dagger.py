@@ -93,6 +93,17 @@ def _split(data: Demonstrations, every: int) -> tuple[list, list]:
     return fitted, held
 
 
+def saved_settings(run_dir: str | Path) -> dict:
+    """The settings an imitation run was started with (its imitation.yaml), for ``--resume``; ValueError
+    if ``run_dir`` is not an imitation run."""
+    path = Path(run_dir) / SETTINGS_FILE
+    if not path.is_file():
+        raise ValueError(f"--resume {run_dir}: not an imitation run directory (no {SETTINGS_FILE})")
+    values = yaml.safe_load(path.read_text())
+    values["resume"] = str(run_dir)
+    return values
+
+
 def _resume(cfg: ImitationConfig, cleanup: contextlib.ExitStack):
     """(run directory, student config, data, next round) of the run ``cfg.resume`` names, locked."""
     run_dir = Path(cfg.resume)
@@ -109,11 +120,10 @@ def train(cfg: ImitationConfig) -> Path:
     limit_threads(1)
     with contextlib.ExitStack() as cleanup:
         # --- checks and the student, before any file is written
-        if cfg.resume:
+        if cfg.resume:  # cfg: the run's imitation.yaml with what the caller changed (e.g. more rounds)
             run_dir, config, data, start = _resume(cfg, cleanup)
-            saved = ImitationConfig(**yaml.safe_load((run_dir / SETTINGS_FILE).read_text()))
-            cfg = dataclasses.replace(saved, rounds=cfg.rounds, workers=cfg.workers, progress=cfg.progress,
-                                      dataset=cfg.dataset, resume=cfg.resume)
+            atomic_write_bytes(run_dir / SETTINGS_FILE, yaml.safe_dump(
+                {**dataclasses.asdict(cfg), "resume": None}, sort_keys=False).encode())
         else:
             cfg.validate()
             config, data, start, run_dir = student_config(cfg), Demonstrations(), 0, None
