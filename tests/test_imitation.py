@@ -46,6 +46,10 @@ def test_dagger_improves_on_its_behaviour_cloning_start(student, tmp_path):
     cfg = settings(student, tmp_path / "runs")
     run_dir = train(cfg)  # round 0: behaviour cloning on 8 of the planner's episodes
     cloned = success(run_dir, tmp_path / "bc")
+    from agents.imitation.__main__ import parse_args
+
+    assert parse_args(["--resume", str(run_dir)]) == dataclasses.replace(cfg, resume=str(run_dir))  # its own settings
+    assert parse_args(["--resume", str(run_dir), "--rounds", "2"]).rounds == 2  # ... with what a flag changes
     run_dir = train(dataclasses.replace(cfg, resume=str(run_dir), rounds=2))  # two DAgger rounds of 8 episodes
     dagger = success(run_dir, run_dir)  # the test phase into the run directory, as a DQN run's
     assert dagger >= cloned + 0.075, (cloned, dagger)
