@@ -47,11 +47,25 @@ seed {facts['seed']}, on `{facts['task']}`, after \
 | success of the first {checked} (replayed by tests/test_pretrained.py) | {rate(t['success_first_check'])} |
 | the run table's success of the original run | {rate(facts['table_success'])} |
 
-Use it: `python -m agents.dqn --eval --checkpoint pretrained:{facts['cell']}`, or in Python
+{_per_test(facts)}Use it: `python -m agents.dqn --eval --checkpoint pretrained:{facts['cell']}`, or in Python
 `agents.pretrained.load("{facts['cell']}")` (docs/pretrained.md).
 
 Reproduce it: `{facts['reproduce']}`{reproduce_in_one_go}.
 """
+
+
+def _per_test(facts: dict) -> str:
+    """A procedural model's test per difficulty (its ``tests``), as a table; nothing for another model."""
+    tests = facts.get("tests")
+    if not tests:
+        return ""
+    lines = ["The test above is the mean of its tests in each difficulty's held-out test worlds:", "",
+             "| tested on | episodes | success | collision | timeout | success of the first "
+             f"{CHECK_EPISODES} (replayed by tests/test_pretrained.py) |", "|---|---|---|---|---|---|"]
+    for options, t in tests.items():
+        lines.append(f"| `{options}` | {t['episodes']} | {t['success']:.0%} | {t['collision']:.0%} | "
+                     f"{t['timeout']:.0%} | {t['success_first_check']:.0%} |")
+    return "\n".join(lines) + "\n\n"
 
 
 def write(folder: str | Path, facts: dict) -> None:

@@ -17,6 +17,8 @@ import shutil
 import tempfile
 from pathlib import Path
 
+import numpy as np
+
 from agents.pretrained import card
 from agents.pretrained.catalogue import CELLS
 from agents.training import pretrained_files as files
@@ -25,6 +27,11 @@ from agents.training.policy_loading import load_policy, policy_from_state, read_
 from agents.training.stats import summarize
 from agents.training.test_phase import run_episodes
 from agents.training.threads import limit_threads
+from dynnav_tasks.generation import DIFFICULTIES
+from dynnav_tasks.task_options import options_name
+from dynnav_tasks.tasks.procedural import MIXED
+
+PROCEDURAL_TASK = "DynNav-Procedural-v1"
 
 TEST_SEED = 1_000_000
 """first test episode's seed (the test phase's default)"""
@@ -79,29 +86,50 @@ def export(run_dir: str | Path, cell: str, episodes: int = 100, root: str | Path
     return facts
 
 
-def measure(staging: Path, cell: str, config: dict, trained_episodes: int, episodes: int, verbose: bool) -> dict:
-    """Load the staged model as ``pretrained:`` loads it, test it, and return its card's facts."""
-    folder, state = files.read_model(cell, staging)
-    policy = policy_from_state(folder, state)
+def test_cells(config: dict) -> list[dict]:
+    """The task options of each test a model's card measures: a procedural model's each difficulty's
+    held-out test worlds (all three for ``difficulty: mixed``), any other model's own task."""
+    if config["task"] != PROCEDURAL_TASK:
+        return [{}]
+    own = config["env"]["task_kwargs"].get("difficulty", "easy")
+    return [dict(difficulty=d, split="test") for d in (DIFFICULTIES if own == MIXED else (own,))]
+
+
+def _test(folder: Path, state: dict, episodes: int, options: dict, verbose: bool) -> dict:
+    policy = policy_from_state(folder, state, **options)
     try:
         if verbose:
-            print(f"testing the exported model {cell} on {episodes} test episodes ...")
+            print(f"testing the exported model {folder.name} on {episodes} test episodes {options or ''} ...")
         records = run_episodes(policy, episodes, TEST_SEED)
     finally:
         policy.env.close()
-    summary = summarize(records)
-    first = records[: card.CHECK_EPISODES]
+    summary, first = summarize(records), records[: card.CHECK_EPISODES]
+    return dict(episodes=episodes, seed=TEST_SEED, success=summary["success_rate"], collision=summary["collision_rate"],
+                timeout=summary["timeout_rate"],
+                success_first_check=sum(r["outcome"] == "success" for r in first) / len(first))
+
+
+def measure(staging: Path, cell: str, config: dict, trained_episodes: int, episodes: int, verbose: bool) -> dict:
+    """Load the staged model as ``pretrained:`` loads it, test it, and return its card's facts: one
+    test, or for a procedural model one per difficulty (``tests``, by task options) and their mean (``test``)."""
+    folder, state = files.read_model(cell, staging)
+    cells = test_cells(config)
+    tests = {options_name(o): _test(folder, state, episodes, o, verbose) for o in cells}
+    mean = lambda key: float(np.mean([t[key] for t in tests.values()]))  # noqa: E731
+    test = next(iter(tests.values())) if len(tests) == 1 and not cells[0] else dict(
+        episodes=episodes * len(tests), seed=TEST_SEED, success=mean("success"), collision=mean("collision"),
+        timeout=mean("timeout"), success_first_check=mean("success_first_check"))
     known = CELLS.get(cell)
-    return dict(
+    facts = dict(
         cell=cell, row=config["name"], seed=config["seed"], task=config["task"], trained_episodes=trained_episodes,
-        autoencoder=(folder / files.AUTOENCODER).is_file(),
-        test=dict(episodes=episodes, seed=TEST_SEED, success=summary["success_rate"],
-                  collision=summary["collision_rate"], timeout=summary["timeout_rate"],
-                  success_first_check=sum(r["outcome"] == "success" for r in first) / len(first)),
+        autoencoder=(folder / files.AUTOENCODER).is_file(), test=test,
         table_success=known.success if known is not None else None,
         reproduce=(known.command() if known is not None else
                    f"python -m agents.dqn --config <config of {config['name']}> --seed {config['seed']}"),
     )
+    if cells[0]:
+        facts["tests"] = tests
+    return facts
 
 
 def install(staged: Path, target: Path) -> None:
