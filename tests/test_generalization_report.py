@@ -148,3 +148,34 @@ def test_the_figure_shows_the_procedural_tests_only(tmp_path):
         write_report(table, out=tmp_path / str(i) / "RESULTS.md")
         pictures.append((tmp_path / str(i) / "docs" / "results" / "generalization.png").read_bytes())
     assert pictures[0] == pictures[1]
+
+
+def test_the_generalist_and_its_ablation_have_tables_of_their_own():
+    from agents.study.generalist import ablation_table, generalist_table
+    from agents.study.generalization import procedural_table
+
+    hard_test, hard_ood = "difficulty=hard,split=test", "difficulty=hard,split=ood"
+    rows = [run_row("procedural-hard", 1, 0.40, hard_test, PROCEDURAL), run_row("procedural-hard", 2, 0.30, hard_test,
+                                                                                PROCEDURAL),
+            run_row("generalist-dagger", 1, 0.70, hard_test, PROCEDURAL), run_row("generalist-dagger", 2, 0.80, hard_test,
+                                                                                  PROCEDURAL),
+            run_row("generalist-dagger", 1, 0.90, hard_ood, PROCEDURAL),
+            run_row("generalist-dagger", 1, 0.25, "study_world=5.3-transfer", PROCEDURAL),
+            run_row("ablation-conv-16", 1, 0.60, hard_test, PROCEDURAL),
+            run_row("ablation-conv-16", 1, 0.80, "difficulty=medium,split=test", PROCEDURAL)]
+    cells = {"state_planner/hard/test": dict(success=0.88, spl=0.8), "state_planner/hard/ood": dict(success=0.96, spl=0.9)}
+    ceilings = {"DynNav-MovingObstacles-v1 [obstacle_count=4,obstacle_speed_scale=1.5]": 0.32}
+    table = generalist_table(rows, cells, ceilings)
+    def cells_of(line: str) -> list[str]:
+        return [c.strip() for c in line.strip().strip("|").split("|")]
+
+    head = cells_of(table[0])
+    at = {name: head.index(name) for name in ("hard test", "hard ood", "5.3 transfer")}
+    planner, dqn, dagger, goal = (cells_of(line) for line in (table[2], table[3], table[4], table[5]))
+    assert (planner[at["hard test"]], planner[at["hard ood"]], planner[at["5.3 transfer"]]) == ("88%", "96%", "32%")
+    assert dqn[at["hard test"]] == "35%" and dqn[1] == "2"  # the per-difficulty navigator, mean of two seeds
+    assert (dagger[at["hard test"]], dagger[at["hard ood"]], dagger[at["5.3 transfer"]]) == ("75%", "90%", "25%")
+    assert goal[at["hard test"]] == "≥ 79%" and goal[at["hard ood"]] == "≥ 72%"  # 90% and 75% of the planner's
+    (ablation,) = ablation_table(rows)[2:]
+    assert ablation.startswith("| `conv-16` | 1 | - | 80% | 60% | 70% | 55 |")
+    assert [line for line in procedural_table(rows, cells) if "generalist" in line or "ablation" in line] == []

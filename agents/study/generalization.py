@@ -12,6 +12,8 @@ agents/training/test_phase.py):
   per training experiment, over the test episodes of every seed (the episode table's
   ``moving_obstacles`` and ``arena_side``), in bins with at least MIN_EPISODES episodes, one line
   for the train and test worlds and one (dashed) for the ood worlds;
+* the one navigator for every difficulty and its ablation, in tables of their own
+  (``agents/study/generalist.py``);
 * transfer tests of the fixed worlds' navigators (e.g. 5.3 with ``obstacle_count=4,
   obstacle_speed_scale=1.5``, or with noise): the same seeds' success in their own test and in the
   other one, beside the planner's ceiling in the task with its default options and with the
@@ -25,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from agents.files import save_figure
+from agents.study.generalist import ABLATION, ablation_table, generalist_table, is_shown_here
 from dynnav_tasks.task_options import parse_task_options
 
 PROCEDURAL_TASK = "DynNav-Procedural-v1"
@@ -64,7 +67,8 @@ def _test_order(key: tuple[str, str]):
 
 def procedural_table(rows: list[dict], cells: dict[str, dict]) -> list[str]:
     """Markdown rows: per procedural experiment and test, the rates beside the planner and floor."""
-    groups = _grouped([r for r in rows if r["task"] == PROCEDURAL_TASK and r["tested_on"]])
+    groups = _grouped([r for r in rows if r["task"] == PROCEDURAL_TASK and r["tested_on"]
+                       and not is_shown_here(r["experiment"])])
     if not groups:
         return []
     lines = ["| trained | tested on | seeds | success (sd) | collision | timeout | SPL | planner ceiling (SPL) | "
@@ -174,7 +178,8 @@ def generalization_section(rows: list[dict], episodes: list[dict], cells: dict[s
     """The section's Markdown lines ([] if the table holds no test with other options); draws the
     figure into ``figure`` (None: no figure)."""
     procedural, transfer = procedural_table(rows, cells), transfer_table(rows, ceilings)
-    if not procedural and not transfer:
+    generalist, ablation = generalist_table(rows, cells, ceilings), ablation_table(rows)
+    if not procedural and not transfer and not generalist:
         return []
     lines = ["", "## Generalization", ""]
     if procedural:
@@ -182,9 +187,20 @@ def generalization_section(rows: list[dict], episodes: list[dict], cells: dict[s
                   "on 100 episodes of its held-out test, train and ood worlds (`docs/procedural.md`); means over "
                   "seeds, beside the full-state planner and the go-to-target floor (200 episodes each).",
                   "", *procedural]
-        procedural_experiments = {r["experiment"] for r in rows if r["task"] == PROCEDURAL_TASK}
+        procedural_experiments = {r["experiment"] for r in rows if r["task"] == PROCEDURAL_TASK
+                                  and not r["experiment"].startswith(ABLATION)}
         if figure is not None and draw_generalization(episodes, figure, procedural_experiments):
             lines += ["", f"![Test success against obstacle count and arena size]({figure_link})"]
+    if generalist:
+        lines += ["", "One navigator for every difficulty (`docs/generalist.md`): taught by the full-state planner "
+                  "(behaviour cloning, then DAgger: `generalist-dagger`), then Double DQN with the teacher's "
+                  "demonstrations kept (`generalist-finetune`); greedy test success on 100 episodes of each cell, "
+                  "means over seeds, beside the planners (200 episodes each) and the per-difficulty navigators.",
+                  "", *generalist]
+    if ablation:
+        lines += ["", "Its student's observation and encoders (`agents.imitation.ablation`): each row fitted from "
+                  "scratch on the same labelled episodes, seen through its own sensors; 100 test episodes per "
+                  "difficulty and seed.", "", *ablation]
     if transfer:
         lines += ["", "Fixed-world navigators tested with other task options, the same seeds in their own test and "
                   "there (5.3 with more boxes: its state keeps two obstacle places, the two nearest; noise: "

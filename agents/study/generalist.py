@@ -1,0 +1,108 @@
+"""The report's tables of the one navigator for every difficulty and of its ablation.
+
+* ``generalist_table``: one row per ``generalist*`` experiment (``configs/procedural/generalist*.yaml``
+  and the imitation runs, ``generalist-dagger``), one column per held-out cell: every
+  difficulty's test and ood worlds and world 5.3 with its transfer version (``study_world``),
+  the mean success over seeds. Beside them: the full-state planner (the ceiling), the planner that
+  sees what the egocentric state tells (``state_planner_tracked4``, when measured), the
+  per-difficulty Double DQN (``procedural-<difficulty>``, in its own difficulty's cells) and the
+  issue's goal (90% of the planner's success in the test worlds, 75% in the ood worlds).
+* ``ablation_table``: one row per ``ablation-*`` experiment (``agents.imitation.ablation``): the
+  mean test success per difficulty over seeds and the training time (re-observing and fitting).
+
+Experiments are told apart by name: the generalist's start with ``generalist``, the ablation's
+with ``ablation-``; ``generalization.procedural_table`` leaves both to these tables.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from dynnav_tasks.task_options import parse_task_options
+
+GENERALIST = "generalist"
+ABLATION = "ablation-"
+DIFFICULTIES = ("easy", "medium", "hard")
+CELLS = [f"difficulty={d},split=test" for d in DIFFICULTIES] + [f"difficulty={d},split=ood" for d in DIFFICULTIES]
+STUDY = {"study_world=5.3": "DynNav-MovingObstacles-v1",
+         "study_world=5.3-transfer": "DynNav-MovingObstacles-v1 [obstacle_count=4,obstacle_speed_scale=1.5]"}
+"""the study-world tests and their planner ceiling's entry in ceilings.json"""
+GOAL = {"test": 0.90, "ood": 0.75}
+"""the goal: this share of the full-state planner's success"""
+
+
+def is_shown_here(experiment: str) -> bool:
+    """Whether an experiment's rows belong to these tables (not the per-difficulty table)."""
+    return experiment.startswith(GENERALIST) or experiment.startswith(ABLATION)
+
+
+def _mean_success(rows: list[dict], experiment: str, on: str) -> tuple[float | None, int]:
+    rates = [r["success_rate"] for r in rows if r["experiment"] == experiment and r["tested_on"] == on]
+    return (float(np.mean(rates)), len(rates)) if rates else (None, 0)
+
+
+def _pct(x: float | None) -> str:
+    return "-" if x is None else f"{x:.0%}"
+
+
+def _cell(on: str) -> tuple[str, str]:
+    options = parse_task_options(on)
+    return str(options["difficulty"]), str(options["split"])
+
+
+def generalist_table(rows: list[dict], cells: dict[str, dict], ceilings: dict[str, float]) -> list[str]:
+    """Markdown lines of the generalist table ([] without a generalist row)."""
+    experiments = sorted({r["experiment"] for r in rows if r["experiment"].startswith(GENERALIST) and r["tested_on"]})
+    if not experiments:
+        return []
+    columns = CELLS + list(STUDY)
+    heads = [f"{d} {s}" for d, s in map(_cell, CELLS)] + ["5.3", "5.3 transfer"]
+    lines = ["| navigator | seeds | " + " | ".join(heads) + " |", "|---|---|" + "---|" * len(columns)]
+
+    def planner(controller: str) -> list[str]:
+        values = [cells.get(f"{controller}/{d}/{s}", {}).get("success") for d, s in map(_cell, CELLS)]
+        study = [ceilings.get(STUDY[on]) if controller == "state_planner" else None for on in STUDY]
+        return [_pct(v) for v in values + study]
+
+    lines.append("| full-state planner (the ceiling) | - | " + " | ".join(planner("state_planner")) + " |")
+    if any(k.startswith("state_planner_tracked4/") for k in cells):
+        lines.append("| planner seeing the 4 nearest boxes at constant velocity | - | "
+                     + " | ".join(planner("state_planner_tracked4")) + " |")
+    per_difficulty, seeds = [], set()
+    for on in columns:
+        if on in STUDY:
+            per_difficulty.append("-")
+            continue
+        value, n = _mean_success(rows, f"procedural-{_cell(on)[0]}", on)
+        per_difficulty.append(_pct(value))
+        seeds.add(n)
+    lines.append(f"| per-difficulty Double DQN (`procedural-<difficulty>`) | {max(seeds)} | "
+                 + " | ".join(per_difficulty) + " |")
+    for experiment in experiments:
+        values = [_mean_success(rows, experiment, on) for on in columns]
+        n = max(k for _, k in values)
+        lines.append(f"| `{experiment}` | {n} | " + " | ".join(_pct(v) for v, _ in values) + " |")
+    goal = [cells.get(f"state_planner/{d}/{s}", {}).get("success") for d, s in map(_cell, CELLS)]
+    lines.append("| goal: 90% (test) / 75% (ood) of the planner | - | "
+                 + " | ".join(f"≥ {v * GOAL[s]:.0%}" if v is not None else "-"
+                              for v, (_, s) in zip(goal, map(_cell, CELLS))) + " | - | - |")
+    return lines
+
+
+def ablation_table(rows: list[dict]) -> list[str]:
+    """Markdown lines of the ablation table ([] without an ablation row)."""
+    experiments = sorted({r["experiment"] for r in rows if r["experiment"].startswith(ABLATION)})
+    if not experiments:
+        return []
+    tests = [f"difficulty={d},split=test" for d in DIFFICULTIES]
+    lines = ["| row | seeds | easy test | medium test | hard test | mean | training (s, each seed) |",
+             "|---|---|---|---|---|---|---|"]
+    for experiment in experiments:
+        values = [_mean_success(rows, experiment, on) for on in tests]
+        own = [r for r in rows if r["experiment"] == experiment and r["tested_on"] == tests[1]]
+        mean = np.mean([v for v, _ in values if v is not None]) if any(v is not None for v, _ in values) else None
+        cost = np.mean([r["train_s"] for r in own]) if own else None
+        lines.append(f"| `{experiment[len(ABLATION):]}` | {max(k for _, k in values)} | "
+                     + " | ".join(_pct(v) for v, _ in values) + f" | {_pct(mean)} | "
+                     + ("-" if cost is None else f"{cost:.0f}") + " |")
+    return lines
