@@ -7,6 +7,7 @@ from typing import Optional
 
 import gymnasium as gym
 import numpy as np
+import sapien
 from mani_skill.sensors.camera import CameraConfig
 from mani_skill.utils import sapien_utils
 from mani_skill.utils.registration import register_env
@@ -289,5 +290,6 @@ class ProceduralEnv(NavEnv):
         spans what ``top_down_pixel`` maps (``_top_down_half_extent``)."""
         h = self._top_down_half_extent() / self._largest_half_extent() * self.TOP_DOWN_HEIGHT
         cx, cy = (float(v) for v in self.world.arena.center)
-        pose = sapien_utils.look_at(eye=[cx, cy, h], target=[cx, cy, 0.0], up=[0, 1, 0])
-        self._human_render_cameras["top_down"].camera.set_local_pose(pose.sp)
+        if getattr(self, "_down", None) is None:  # looking straight down, y up in the picture: one rotation for all
+            self._down = sapien_utils.look_at(eye=[0.0, 0.0, 1.0], target=[0.0, 0.0, 0.0], up=[0, 1, 0]).sp.q
+        self._human_render_cameras["top_down"].camera.set_local_pose(sapien.Pose([cx, cy, h], self._down))
