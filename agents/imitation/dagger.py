@@ -47,7 +47,7 @@ from agents.imitation.config import ImitationConfig
 from agents.core.demonstrations import Demonstrations
 from agents.imitation.fit import fit_rollouts
 from agents.imitation.offline_dataset import dataset_bytes, write_minari
-from agents.imitation.record import write_record
+from agents.imitation.record import write_metrics, write_record
 from agents.training import checkpoint as ckpt
 from agents.training.config import Config
 from agents.training.config_io import config_from_dict, load_yaml, save_yaml, to_yaml_dict
@@ -225,5 +225,6 @@ def _write_round(run_dir: Path, config: Config, data: Demonstrations, net, featu
     writer.writeheader()
     writer.writerows(rows + [{k: row[k] for k in ROUND_COLUMNS}])
     atomic_write_bytes(run_dir / ROUNDS_FILE, buffer.getvalue().encode())
+    write_metrics(run_dir, data.rollouts, data.rounds, rows + [{k: str(v) for k, v in row.items()}])
     atomic_write_bytes(run_dir / STATE_FILE, json.dumps(dict(round=row["round"], episodes=episodes,
                                                              states=len(data))).encode())
