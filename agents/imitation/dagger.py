@@ -120,12 +120,12 @@ def train(cfg: ImitationConfig) -> Path:
     limit_threads(1)
     with contextlib.ExitStack() as cleanup:
         # --- checks and the student, before any file is written
+        cfg.validate()
         if cfg.resume:  # cfg: the run's imitation.yaml with what the caller changed (e.g. more rounds)
             run_dir, config, data, start = _resume(cfg, cleanup)
             atomic_write_bytes(run_dir / SETTINGS_FILE, yaml.safe_dump(
                 {**dataclasses.asdict(cfg), "resume": None}, sort_keys=False).encode())
         else:
-            cfg.validate()
             config, data, start, run_dir = student_config(cfg), Demonstrations(), 0, None
         env = make_env_from(config)
         cleanup.callback(env.close)
@@ -177,9 +177,9 @@ def train(cfg: ImitationConfig) -> Path:
                                        "imitation/train_accuracy": report.train_accuracy,
                                        "imitation/validation_accuracy": report.validation_accuracy})
                 board.flush()
-            held = "" if report.validation_accuracy is None else f", held-out accuracy {report.validation_accuracy:.3f}"
+            unseen = "" if report.validation_accuracy is None else f", held-out {report.validation_accuracy:.3f}"
             print(f"round {round_}: {n} episodes at beta {beta:.2f}: success {row['success']:.0%}; "
-                  f"{len(data)} states; accuracy {report.train_accuracy:.3f}{held}; {row['seconds']:.0f} s")
+                  f"{len(data)} states; accuracy {report.train_accuracy:.3f}{unseen}; {row['seconds']:.0f} s")
 
         if cfg.dataset:
             spec = EnvSpec(**_spec_fields(env, config))
