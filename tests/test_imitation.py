@@ -68,7 +68,7 @@ def test_dagger_improves_on_its_behaviour_cloning_start(student, tmp_path):
     assert [row.split(",")[0] for row in rows[1:]] == ["0", "1", "2"]  # one row per round, none twice
 
 
-def test_demonstrations_load_back_as_numpy_and_as_a_minari_data_set(student, tmp_path):
+def test_demonstrations_load_back_as_numpy_and_as_a_minari_data_set(student, tmp_path, monkeypatch):
     config = load_yaml(student)
     with Collector(to_yaml_dict(config), workers=0) as collector:
         rollouts = collector.play([(11, 1.0), (12, 1.0), (13, 1.0)])
@@ -85,8 +85,9 @@ def test_demonstrations_load_back_as_numpy_and_as_a_minari_data_set(student, tmp
     from agents.training.envs import make_env_from
 
     env = make_env_from(config)
+    monkeypatch.chdir(tmp_path)  # a run directory is given relative to the working folder, as runs/imitation/...
     try:
-        folder = write_minari(rollouts, tmp_path / "dataset", EnvSpec(**_spec_fields(env, config)),
+        folder = write_minari(rollouts, Path("runs") / "dataset", EnvSpec(**_spec_fields(env, config)),
                               env.observation_space, env.action_space, description="three test episodes")
     finally:
         env.close()

@@ -39,9 +39,10 @@ DATASET_ID = "dynnav/procedural/planner-v0"
 
 @contextlib.contextmanager
 def _datasets_root(folder: Path):
-    """Minari reads its root folder from ``MINARI_DATASETS_PATH`` when called: point it at ``folder``."""
+    """Minari reads its root folder from ``MINARI_DATASETS_PATH`` when called: point it at ``folder``
+    (absolute: Minari 0.5.4 joins a relative root to itself when it measures the data set)."""
     before = os.environ.get("MINARI_DATASETS_PATH")
-    os.environ["MINARI_DATASETS_PATH"] = str(folder)
+    os.environ["MINARI_DATASETS_PATH"] = str(Path(folder).resolve())
     try:
         yield
     finally:
