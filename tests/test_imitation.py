@@ -107,6 +107,19 @@ def test_demonstrations_load_back_as_numpy_and_as_a_minari_data_set(student, tmp
         recovered.close()
 
 
+def test_an_imitation_run_ends_with_its_students_test_phase(tmp_path):
+    student = tmp_path / "student.yaml"
+    student.write_text(f"base: {ROOT / 'configs/procedural/generalist.yaml'}\n"
+                       "env:\n  task_kwargs: {difficulty: easy, split: train, way: true, turn_forward_step: 0.0}\n"
+                       "dqn: {hidden_sizes: [32]}\n"
+                       "test: {eval_episodes: 2, eval_picture: false, eval_task_kwargs: {split: test},\n"
+                       "       also_test_on: [study_world=5.3]}\n")
+    run_dir = train(settings(student, tmp_path / "runs", teacher_episodes=2, epochs=2))
+    rows, _ = read_run(run_dir)  # the run's own test and the one in tests/, as rows of the run table
+    assert sorted(r["tested_on"] for r in rows) == ["split=test", "study_world=5.3"]
+    assert all(r["test_episodes"] == 2 and r["episodes_done"] == 2 for r in rows)
+
+
 def test_bad_settings_end_with_one_line_and_write_nothing(student, tmp_path):
     runs = tmp_path / "runs"
     result = subprocess.run([sys.executable, "-m", "agents.imitation", "--student", str(student), "--rounds", "-1",

@@ -188,14 +188,14 @@ def train(cfg: ImitationConfig) -> Path:
                                               f"{config.env.task_kwargs}, labelled by the full-state planner")
             print(f"Minari data set: {folder} ({len(data.rollouts)} episodes, {len(data)} states, "
                   f"{dataset_bytes(folder) / 1e6:.1f} MB)")
-        collector.close()
-        t0 = time.perf_counter()
-        if config.test.eval_after_training:  # the student's test phase, as a DQN run's: eval.json, tests/
-            evaluate_as_configured(config, run_dir, only_missing=True, verbose=False)
-        with open(run_dir / ROUNDS_FILE, newline="") as f:
-            train_s = sum(float(r["seconds"]) for r in csv.DictReader(f))
-        write_record(run_dir, f"{config.name}-dagger", train_s=train_s, eval_s=time.perf_counter() - t0,
-                     workers=cfg.workers, episodes=len(data.rollouts), states=len(data))
+    # --- the student's test phase, as a DQN run's (eval.json, tests/), once the run directory is unlocked
+    t0 = time.perf_counter()
+    if config.test.eval_after_training:
+        evaluate_as_configured(config, run_dir, only_missing=True, verbose=False)
+    with open(run_dir / ROUNDS_FILE, newline="") as f:
+        train_s = sum(float(r["seconds"]) for r in csv.DictReader(f))
+    write_record(run_dir, f"{config.name}-dagger", train_s=train_s, eval_s=time.perf_counter() - t0,
+                 workers=cfg.workers, episodes=len(data.rollouts), states=len(data))
     return run_dir
 
 
