@@ -187,3 +187,30 @@ def test_a_fit_keeps_the_epoch_that_agrees_best_with_held_out_labels():
     assert report.validation_accuracy == pytest.approx(max(scores))  # the best epoch's score ...
     assert accuracy(net, held_x, held) == pytest.approx(max(scores))  # ... and its weights, restored
     assert report.best_epoch == int(np.argmax(scores)) + 1 and report.best_epoch < 60
+
+
+def test_a_fresh_fit_is_a_new_network_fitted_to_every_label(student, tmp_path):
+    import torch
+
+    from agents.core.policy import build_q_network
+    from agents.imitation.dagger import _split
+    from agents.imitation.fit import fit_rollouts
+    from agents.training import checkpoint as ckpt
+    from agents.training.envs import make_env_from
+    from agents.training.experience import make_features
+
+    cfg = settings(student, tmp_path / "runs", teacher_episodes=4, rounds=1, round_episodes=3, epochs=3,
+                   fresh_fit=True, validation_every=3)
+    run_dir = train(cfg)
+    config = load_yaml(run_dir / "config.yaml")
+    env = make_env_from(config)
+    try:
+        features = make_features(env, config)
+        net = build_q_network(config, features.input_specs, 3)  # round 1's student, made by hand
+        fitted, held = _split(Demonstrations.load(run_dir / DATA_FILE), 3)
+        fit_rollouts(net, features, fitted, held, 3, cfg.batch_size, cfg.learning_rate, np.random.default_rng([1, 1]))
+    finally:
+        env.close()
+    saved = ckpt.load(run_dir, memory=False)["learner"]["q"]
+    for name, value in net.state_dict().items():
+        torch.testing.assert_close(saved[name], value)

@@ -41,7 +41,10 @@ class ImitationConfig:
     """in DAgger round i the teacher's action is taken with probability beta_decay ** i, else the student's
     (Ross et al. 2011's mixture; 0: the student always drives)"""
     epochs: int = 30
-    """passes over the aggregated data at each fit (the network continues from the last round's weights)"""
+    """passes over the aggregated data at each fit"""
+    fresh_fit: bool = False
+    """each round's student is a new network fitted to every label so far (DAgger as Ross et al. 2011 give it);
+    False: it continues from the last round's weights"""
     batch_size: int = 256
     """states per gradient step"""
     learning_rate: float = 0.001

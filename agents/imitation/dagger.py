@@ -10,8 +10,9 @@ Q-network and the features that scale its observations). Then, round by round:
    (DAgger): the teacher's action is taken with probability ``beta_decay ** i``, else the
    student's (``round_episodes``), so the data holds the states the student itself reaches;
 2. add them to the aggregated data (every round's episodes are kept);
-3. fit the student to every label so far (``fit.py``; it continues from its last weights),
-   holding out every ``validation_every``-th episode to report its accuracy on unseen states;
+3. fit the student to every label so far (``fit.py``; it continues from its last weights, or
+   with ``fresh_fit`` starts anew), holding out every ``validation_every``-th episode and keeping
+   the epoch that agrees best with their labels;
 4. write the round: a row of ``rounds.csv``, the data (``demonstrations.npz``), the student as a
    DQN checkpoint (``checkpoint/``: ``agents.dqn --eval --checkpoint <run>`` tests it and
    ``agents.dqn --init-from <run>`` fine-tunes it) and the round reached (``imitation.json``).
@@ -154,6 +155,8 @@ def train(cfg: ImitationConfig) -> Path:
                                       description=f"round {round_} (beta {beta:.2f})")
             data.add(rollouts, round_)
             fitted, held = _split(data, cfg.validation_every)
+            if cfg.fresh_fit:  # a new network, the same start every round (the config's seed)
+                net = build_q_network(config, features.input_specs, int(env.action_space.n))
 
             def on_epoch(loss: float) -> None:
                 nonlocal epochs_done
