@@ -54,10 +54,15 @@ def main() -> None:
     parser.add_argument("--config", default="configs/procedural/generalist-finetune.yaml")
     parser.add_argument("--episodes", type=int, default=400)
     parser.add_argument("--random-steps", type=int, default=20000)
+    parser.add_argument("--batch-size", type=int, default=None, help="override the config's minibatch")
+    parser.add_argument("--train-frequency", type=int, default=None, help="override the config's steps per update")
     args = parser.parse_args()
     limit_threads(1)
     print(describe("not pinned: the fast mode uses both cores"))
     base = load_yaml(args.config)
+    base = dataclasses.replace(base, dqn=dataclasses.replace(
+        base.dqn, batch_size=args.batch_size or base.dqn.batch_size,
+        train_frequency=args.train_frequency or base.dqn.train_frequency))
     plain = dataclasses.replace(base, demos=dataclasses.replace(base.demos, init_from=None, demonstrations=None,
                                                                 pretrain_updates=0))
     print(f"task: {base.task} {base.env.task_kwargs}")
