@@ -198,9 +198,9 @@ def generalization_section(rows: list[dict], episodes: list[dict], cells: dict[s
                   "means over seeds, beside the planners (200 episodes each) and the per-difficulty navigators.",
                   "", *generalist]
     if ablation:
-        lines += ["", "Its student's observation and encoders (`agents.imitation.ablation`): each row fitted from "
-                  "scratch on the same labelled episodes, seen through its own sensors; 100 test episodes per "
-                  "difficulty and seed.", "", *ablation]
+        lines += ["", "The generalist's student, its observation and encoders (`agents.imitation.ablation`, "
+                  "`docs/generalist.md`): each row fitted from scratch on the labelled episodes of one imitation run, "
+                  "seen through its own sensors; 100 held-out test episodes per difficulty and seed.", "", *ablation]
     if transfer:
         lines += ["", "Fixed-world navigators tested with other task options, the same seeds in their own test and "
                   "there (5.3 with more boxes: its state keeps two obstacle places, the two nearest; noise: "
