@@ -103,6 +103,19 @@ def atomic_write_bytes(path: str | Path, data: bytes) -> None:
         raise
 
 
+def replace_folder(staged: str | Path, target: str | Path) -> None:
+    """Rename the finished folder ``staged`` to ``target``, replacing a folder there: the old one is
+    moved aside first and deleted after, so ``target`` is never half-written."""
+    staged, target = Path(staged), Path(target)
+    if target.exists():
+        aside = target.parent / f".{target.name}.old-{os.urandom(4).hex()}"
+        os.replace(target, aside)
+        os.replace(staged, target)
+        shutil.rmtree(aside, ignore_errors=True)
+    else:
+        os.replace(staged, target)
+
+
 def save_figure(figure, path: str | Path, **kwargs) -> None:
     """Save a matplotlib figure (``kwargs`` go to ``savefig``) or a PIL image as a PNG at ``path``,
     atomically."""

@@ -78,26 +78,37 @@ def fit(net: nn.Module, x: np.ndarray, labels: np.ndarray, epochs: int, batch_si
         on_epoch: Optional[Callable[[float], None]] = None) -> FitReport:
     """Train ``net`` to give the teacher's ``labels`` for inputs ``x`` (float32, already scaled);
     ``on_epoch(mean loss)`` is called after every epoch."""
-    optimizer = torch.optim.Adam(net.parameters(), lr=learning_rate)
     xt, yt = torch.as_tensor(x), torch.as_tensor(labels)
-    updates, loss_sum, batches = 0, 0.0, 0
-    keep = _BestEpoch(net, (lambda: accuracy(net, *held_out)) if held_out is not None and len(held_out[0]) else None)
+
+    def batches(order):
+        for i in range(0, len(order), batch_size):
+            idx = torch.as_tensor(order[i:i + batch_size])
+            yield F.cross_entropy(net(xt[idx]), yt[idx])
+
+    score = (lambda: accuracy(net, *held_out)) if held_out is not None and len(held_out[0]) else None
+    loss, updates, best = _epochs(net, len(x), batches, epochs, learning_rate, rng, score, on_epoch)
+    return FitReport(loss, accuracy(net, x, labels), best.restore(), updates, best.epoch)
+
+
+def _epochs(net: nn.Module, n: int, batches, epochs: int, learning_rate: float, rng: np.random.Generator,
+            score: Optional[Callable[[], float]], on_epoch: Optional[Callable[[float], None]]):
+    """The loop both fits share: per epoch, Adam steps on the losses ``batches(shuffled order)`` yields,
+    then ``on_epoch`` and the early-stopping check; returns (last epoch's mean loss, updates, the best epoch)."""
+    optimizer = torch.optim.Adam(net.parameters(), lr=learning_rate)
+    best, updates, mean = _BestEpoch(net, score), 0, 0.0
     for epoch in range(1, epochs + 1):
         net.train()
-        order = torch.as_tensor(rng.permutation(len(x)))
-        loss_sum, batches = 0.0, 0
-        for i in range(0, len(x), batch_size):
-            idx = order[i:i + batch_size]
-            loss = F.cross_entropy(net(xt[idx]), yt[idx])
+        total, count = 0.0, 0
+        for loss in batches(rng.permutation(n)):
             optimizer.zero_grad(set_to_none=True)
             loss.backward()
             optimizer.step()
-            loss_sum, batches, updates = loss_sum + loss.item(), batches + 1, updates + 1
+            total, count, updates = total + loss.item(), count + 1, updates + 1
+        mean = total / max(count, 1)
         if on_epoch is not None:
-            on_epoch(loss_sum / max(batches, 1))
-        keep.seen(epoch)
-    validation = keep.restore()
-    return FitReport(loss_sum / max(batches, 1), accuracy(net, x, labels), validation, updates, keep.epoch)
+            on_epoch(mean)
+        best.seen(epoch)
+    return mean, updates, best
 
 
 def _padded(episodes: list[np.ndarray], labels: list[np.ndarray]):
@@ -132,30 +143,19 @@ def fit_sequences(net: nn.Module, episodes: list[np.ndarray], labels: list[np.nd
                   on_epoch: Optional[Callable[[float], None]] = None) -> FitReport:
     """``fit`` for a recurrent student: ``episodes`` (each (steps, d), scaled) and their labels;
     ``batch_size`` counts states, so a minibatch holds about batch_size / mean length episodes."""
-    optimizer = torch.optim.Adam(net.parameters(), lr=learning_rate)
     per_batch = max(1, int(round(batch_size / np.mean([len(e) for e in episodes]))))
-    updates, loss_sum, batches = 0, 0.0, 0
-    keep = _BestEpoch(net, (lambda: sequence_accuracy(net, *held_out)) if held_out is not None and held_out[0] else None)
-    for epoch in range(1, epochs + 1):
-        net.train()
-        order = rng.permutation(len(episodes))
-        loss_sum, batches = 0.0, 0
+
+    def batches(order):
         for i in range(0, len(order), per_batch):
             pick = order[i:i + per_batch]
             x, y, mask = _padded([episodes[j] for j in pick], [labels[j] for j in pick])
             q, _ = net(x)
             each = F.cross_entropy(q.reshape(-1, q.shape[-1]), y.reshape(-1), reduction="none")
-            loss = (each * mask.reshape(-1)).sum() / mask.sum()
-            optimizer.zero_grad(set_to_none=True)
-            loss.backward()
-            optimizer.step()
-            loss_sum, batches, updates = loss_sum + loss.item(), batches + 1, updates + 1
-        if on_epoch is not None:
-            on_epoch(loss_sum / max(batches, 1))
-        keep.seen(epoch)
-    validation = keep.restore()
-    return FitReport(loss_sum / max(batches, 1), sequence_accuracy(net, episodes, labels), validation, updates,
-                     keep.epoch)
+            yield (each * mask.reshape(-1)).sum() / mask.sum()
+
+    score = (lambda: sequence_accuracy(net, *held_out)) if held_out is not None and held_out[0] else None
+    loss, updates, best = _epochs(net, len(episodes), batches, epochs, learning_rate, rng, score, on_epoch)
+    return FitReport(loss, sequence_accuracy(net, episodes, labels), best.restore(), updates, best.epoch)
 
 
 def fit_rollouts(net: nn.Module, features, rollouts: list, held_out: list, epochs: int, batch_size: int,

@@ -32,6 +32,7 @@ import gymnasium as gym
 import numpy as np
 
 from agents.core.demonstrations import Rollout
+from agents.files import replace_folder
 
 DATASET_ID = "dynnav/procedural/planner-v0"
 """the data set's Minari id: namespace dynnav, environment procedural, the planner's labels"""
@@ -79,13 +80,7 @@ def write_minari(rollouts: list[Rollout], folder: str | Path, env_spec: gym.envs
                 algorithm_name="dynnav_tasks.baselines.state_planner (teacher) and DAgger (agents.imitation)",
                 description=description, data_format="hdf5", requirements=["dynnav"],
             )
-        if folder.exists():
-            aside = folder.parent / f".{folder.name}.old-{os.urandom(4).hex()}"
-            os.replace(folder, aside)
-            os.replace(tmp, folder)
-            shutil.rmtree(aside, ignore_errors=True)
-        else:
-            os.replace(tmp, folder)
+        replace_folder(tmp, folder)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise

@@ -12,13 +12,13 @@ run the catalogue names (its row and seed).
 
 from __future__ import annotations
 
-import os
 import shutil
 import tempfile
 from pathlib import Path
 
 import numpy as np
 
+from agents.files import replace_folder
 from agents.pretrained import card
 from agents.pretrained.catalogue import CELLS
 from agents.training import pretrained_files as files
@@ -134,10 +134,4 @@ def measure(staging: Path, cell: str, config: dict, trained_episodes: int, episo
 
 def install(staged: Path, target: Path) -> None:
     """Rename the staged model folder to ``target``, replacing a model there."""
-    if target.exists():
-        aside = target.parent / f".replaced-{target.name}-{os.urandom(4).hex()}"
-        os.replace(target, aside)
-        os.replace(staged, target)
-        shutil.rmtree(aside, ignore_errors=True)
-    else:
-        os.replace(staged, target)
+    replace_folder(staged, target)
