@@ -26,6 +26,7 @@ target's bearing), in ``egocentric.py``'s ``way`` part.
 from __future__ import annotations
 
 import math
+from functools import cached_property
 
 import numpy as np
 from scipy import ndimage
@@ -47,13 +48,15 @@ class WaySense:
 
     def __init__(self, world, clearance: float = CLEARANCE):
         self.grid = WayGrid(world, clearance, lists=False)  # a few reads per step: numpy grids, no lists to build
-        # for every cell, the nearest free cell (itself when free): where a robot too close to a wall reads from
-        if self.grid.free.any():
-            _, index = ndimage.distance_transform_edt(~self.grid.free, return_indices=True)
-            self._nearest = index
-        else:
-            self._nearest = np.indices(self.grid.free.shape)
         self._fields: dict[tuple[int, int], object] = {}
+
+    @cached_property
+    def _nearest(self) -> np.ndarray:
+        """(2, nx, ny): for every cell, the nearest free cell (itself when free), where a robot too
+        close to a wall reads from; computed when the straight way is first blocked."""
+        if not self.grid.free.any():
+            return np.indices(self.grid.free.shape)
+        return ndimage.distance_transform_edt(~self.grid.free, return_indices=True)[1]
 
     def read(self, x: float, y: float, yaw: float, tx: float, ty: float) -> tuple[float, float, float]:
         """(length of the way from (x, y) to the target (tx, ty) in m, sin and cos of the

@@ -179,3 +179,16 @@ def test_the_generalist_and_its_ablation_have_tables_of_their_own():
     (ablation,) = ablation_table(rows)[2:]
     assert ablation.startswith("| `conv-16` | 1 | - | 80% | 60% | 70% | 55 |")
     assert [line for line in procedural_table(rows, cells) if "generalist" in line or "ablation" in line] == []
+
+
+def test_the_generalists_learning_curves_are_drawn_once_it_has_a_run(tmp_path):
+    """The per-difficulty runs alone draw no generalist figure; with a generalist run RESULTS.md
+    shows its success and return curves beside theirs."""
+    per_difficulty = [run_row(f"procedural-{d}", 1, 0.5, "", PROCEDURAL) for d in ("easy", "medium", "hard")]
+    generalist = [dict(run_row("generalist-finetune", 1, 0.7, "", PROCEDURAL),
+                       curve_success=" ".join(["0.6"] * 4 + ["0.8"] * 4))]
+    for name, rows in (("without", per_difficulty), ("with", per_difficulty + generalist)):
+        add_rows(tmp_path / name / "results", rows, [])
+        text = write_report(tmp_path / name / "results", out=tmp_path / name / "RESULTS.md").read_text()
+        drawn = (tmp_path / name / "docs" / "results" / "generalist.png").is_file()
+        assert drawn == (name == "with") and ("(docs/results/generalist.png)" in text) == drawn

@@ -13,6 +13,10 @@ retrained with today's code, reached 4% on the test episodes (22% training succe
 The three cells whose best row has memory (5.5a-camera, 5.5b-laser-camera-pos, 5.5c-frames-4: rows
 ending in ``-gru``) were exported from the memory sweep's own runs (agents/study/REPRODUCE.md), so
 their cards test the very networks of the table's rows.
+
+``procedural`` is the generalist (docs/generalist.md): the reinforcement-learning fine-tune of a
+student cloned from the planner, so its run needs the same seed's imitation run first
+(``Source.before``); it trains in the fast mode, as its row was.
 """
 
 from __future__ import annotations
@@ -21,7 +25,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-STUDY_CONFIGS = ROOT / "configs" / "study"
 
 
 @dataclass(frozen=True)
@@ -36,16 +39,29 @@ class Source:
     """that run's test success in the run table (100 test episodes)"""
     wall_s: float
     """that run's recorded training time in seconds"""
+    folder: str = "study"
+    """the folder of configs/ that holds the experiment's config"""
+    fast: bool = False
+    """whether the run trains in the fast mode (``--fast``)"""
+    before: str = ""
+    """the command whose run this one starts from (its ``demos`` settings find it), if any"""
 
     @property
     def config(self) -> Path:
         """The experiment's config file."""
-        return STUDY_CONFIGS / f"{self.row}.yaml"
+        return ROOT / "configs" / self.folder / f"{self.row}.yaml"
+
+    def training_args(self, config: str | Path | None = None) -> list[str]:
+        """The ``agents.dqn`` arguments of the run (``--runs-dir`` and the progress bar aside), with
+        ``config`` (default: the config's full path) as its config."""
+        return (["--config", str(self.config if config is None else config), "--seed", str(self.seed),
+                 "--no-eval-after-training"] + (["--fast"] if self.fast else []))
 
     def command(self) -> str:
-        """The training command that reproduces the run."""
-        return (f"python -m agents.dqn --config configs/study/{self.row}.yaml --seed {self.seed} "
-                f"--runs-dir runs/pretrained --no-eval-after-training")
+        """The training commands that reproduce the run (from the repository's root)."""
+        args = self.training_args(self.config.relative_to(ROOT).as_posix())
+        dqn = " ".join(["python -m agents.dqn", *args[:4], "--runs-dir runs/pretrained", *args[4:]])
+        return f"{self.before} && {dqn}" if self.before else dqn
 
 
 CELLS: dict[str, Source] = {

@@ -34,9 +34,7 @@ def existing_run(cell: str, runs_dir: str | Path = RUNS_DIR) -> tuple[Path | Non
 
 def training_args(cell: str, runs_dir: str | Path = RUNS_DIR, progress: bool = True) -> list[str]:
     """The ``agents.dqn`` arguments that train ``cell``'s run (the test comes with the export)."""
-    s = source_of(cell)
-    return ["--config", str(s.config), "--seed", str(s.seed), "--runs-dir", str(runs_dir),
-            "--no-eval-after-training", "--progress" if progress else "--no-progress"]
+    return [*source_of(cell).training_args(), "--runs-dir", str(runs_dir), "--progress" if progress else "--no-progress"]
 
 
 def train_and_export(cell: str, runs_dir: str | Path = RUNS_DIR, episodes: int = 100, root=None,

@@ -21,6 +21,9 @@ from agents.training.plots import moving_average
 SMOOTH_EPISODES = 100
 """training episodes each plotted point averages"""
 PANELS = (("loss", "Q-loss (mean per episode)"), ("return", "accumulated reward"))
+"""the study's figures' panels: (curve, axis label)"""
+SUCCESS_PANELS = (("success", "success (share of episodes)"), ("return", "accumulated reward"))
+"""panels of figures whose members learn from different losses (a fit's and a Q-loss)"""
 
 
 def block_size(rows: list[dict]) -> int:
@@ -54,8 +57,8 @@ def caption(block: int) -> str:
             f"({n * block} episodes)")
 
 
-def draw_figure(path: Path, title: str, members: list[tuple[str, list[dict]]]) -> None:
-    """Write one comparison figure: Q-loss and return curves of each (label, runs) member."""
+def draw_figure(path: Path, title: str, members: list[tuple[str, list[dict]]], panels=PANELS) -> None:
+    """Write one comparison figure: the ``panels``' curves (Q-loss and return) of each (label, runs) member."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -63,7 +66,7 @@ def draw_figure(path: Path, title: str, members: list[tuple[str, list[dict]]]) -
 
     block = block_size([r for _, rows in members for r in rows])
     fig, axes = plt.subplots(1, 2, figsize=(8, 5), dpi=100)
-    for (key, ylabel), ax in zip(PANELS, axes):
+    for (key, ylabel), ax in zip(panels, axes):
         for label, rows in members:
             curve = mean_curve(rows, key)
             if len(curve):
@@ -85,14 +88,14 @@ def draw_figure(path: Path, title: str, members: list[tuple[str, list[dict]]]) -
 
 
 def write_figures(groups: dict[str, list[dict]], figures: list[tuple[str, str, list[tuple[str, str]]]],
-                  folder: Path) -> list[tuple[Path, str]]:
-    """Draw each figure of which at least two experiments have runs; return (path, title) of each."""
+                  folder: Path, panels=PANELS) -> list[tuple[Path, str]]:
+    """Draw each figure of which at least two experiments have runs, with ``panels``; return (path, title) of each."""
     written = []
     for stem, title, members in figures:
         present = [(label, groups[e]) for e, label in members if groups.get(e)]
         if len(present) >= 2:  # a comparison needs two curves
             folder.mkdir(parents=True, exist_ok=True)
             path = folder / f"{stem}.png"
-            draw_figure(path, title, present)
+            draw_figure(path, title, present, panels)
             written.append((path, title))
     return written

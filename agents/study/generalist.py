@@ -29,6 +29,17 @@ STUDY = {"study_world=5.3": "DynNav-MovingObstacles-v1",
 """the study-world tests and their planner ceiling's entry in ceilings.json"""
 GOAL = {"test": 0.90, "ood": 0.75}
 """the goal: this share of the full-state planner's success"""
+FIGURES = [("generalist", "One navigator for every difficulty, and one per difficulty", [
+    ("generalist-dagger", "generalist: the episodes DAgger labelled (planner, then student)"),
+    ("generalist-finetune", "generalist: Double DQN from the student"),
+    ("procedural-easy", "per-difficulty DQN: easy"), ("procedural-medium", "per-difficulty DQN: medium"),
+    ("procedural-hard", "per-difficulty DQN: hard")])]
+"""the learning-curve figure of the generalist (``figures.SUCCESS_PANELS``: success and return per episode)"""
+
+
+def figures_of(groups: dict[str, list[dict]]) -> list:
+    """``FIGURES`` once the table has a generalist run (the per-difficulty curves alone are no comparison of it)."""
+    return FIGURES if any(e.startswith(GENERALIST) for e in groups) else []
 
 
 def is_shown_here(experiment: str) -> bool:

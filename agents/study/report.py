@@ -43,7 +43,8 @@ import numpy as np
 from agents.files import atomic_write_bytes
 from agents.study.cells import (cells_table, find_configs, format_ceiling, load_ceilings, memory_section,
                                 short_of_seeds, study_rate, t975, wide_intervals)
-from agents.study.figures import block_size, caption, write_figures
+from agents.study.figures import SUCCESS_PANELS, block_size, caption, write_figures
+from agents.study.generalist import figures_of as generalist_figures
 from agents.study.generalization import generalization_section, load_cells
 from agents.study.numbers import FIGURES, THESIS
 from agents.study.table import DEFAULT_TABLE, RUNS, read_table
@@ -210,7 +211,8 @@ def write_report(table: str | Path = DEFAULT_TABLE, out: str | Path = "RESULTS.m
     block = block_size(rows)  # one curve block for every figure, checked before anything is written
     figures_dir = Path(figures_dir) if figures_dir else out.parent / "docs" / "results"
     out.parent.mkdir(parents=True, exist_ok=True)
-    written = [(_relative(p, out.parent), title) for p, title in write_figures(groups, FIGURES, figures_dir)]
+    written = [(_relative(p, out.parent), title) for p, title in write_figures(groups, FIGURES, figures_dir)
+               + write_figures(groups, generalist_figures(groups), figures_dir, SUCCESS_PANELS)]
     table_path = Path(table) / RUNS
     inside = table_path.resolve().is_relative_to(out.parent.resolve())
     table_name = _relative(table_path, out.parent) if inside else table_path.as_posix()

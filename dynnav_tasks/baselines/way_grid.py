@@ -17,6 +17,7 @@ looks at a handful of them instead of all.
 from __future__ import annotations
 
 import math
+from functools import cached_property
 
 import numpy as np
 from scipy.sparse import coo_matrix
@@ -128,7 +129,6 @@ class WayGrid:
             np.minimum(gap[i0:i1, j0:j1], np.hypot(dx[:, None], dy[None, :]), out=gap[i0:i1, j0:j1])
         self.free = gap >= need
         """(nx, ny) cells the robot's centre may be in"""
-        self._graph = self._neighbour_graph()
         self._fields: dict[tuple[int, int], WayField] = {}
 
     def cell_of(self, x: float, y: float) -> tuple[int, int]:
@@ -143,13 +143,29 @@ class WayGrid:
 
     def line_free(self, a, b) -> bool:
         """Whether every point of the segment from ``a`` to ``b`` (x, y) lies in a free cell
-        (tested every half cell)."""
-        n = max(1, int(math.ceil(math.hypot(b[0] - a[0], b[1] - a[1]) / (self.cell / 2))))
-        t = np.linspace(0.0, 1.0, n + 1)
-        x, y = a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t
-        i = np.clip(((x - self.x0) // self.cell).astype(int), 0, self.nx - 1)
-        j = np.clip(((y - self.y0) // self.cell).astype(int), 0, self.ny - 1)
-        return bool(self.free[i, j].all())
+        (tested every half cell, from ``a`` on, stopping at the first occupied cell)."""
+        ax, ay = float(a[0]), float(a[1])
+        dx, dy = float(b[0]) - ax, float(b[1]) - ay
+        n = max(1, int(math.ceil(math.hypot(dx, dy) / (self.cell / 2))))
+        step, x0, y0, cell = 1.0 / n, self.x0, self.y0, self.cell
+        last_i, last_j, rows = self.nx - 1, self.ny - 1, self._free_rows
+        for k in range(n + 1):
+            t = k * step if k < n else 1.0  # the points of np.linspace(0, 1, n + 1)
+            i = min(max(int((ax + dx * t - x0) // cell), 0), last_i)
+            j = min(max(int((ay + dy * t - y0) // cell), 0), last_j)
+            if not rows[i][j]:
+                return False
+        return True
+
+    @cached_property
+    def _free_rows(self) -> list[list[bool]]:
+        """``free`` as lists (a read per point of a segment; lists are faster per read than arrays)."""
+        return self.free.tolist()
+
+    @cached_property
+    def _graph(self):
+        """The free cells' neighbour graph, built for the first way asked for."""
+        return self._neighbour_graph()
 
     def _neighbour_graph(self):
         """Sparse graph of the free cells: edges to the eight neighbours, of their length; a
