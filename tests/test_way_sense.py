@@ -107,3 +107,20 @@ def test_the_procedural_task_plays_a_study_world_through_its_own_state():
         assert transfer.unwrapped.world.moving_obstacle_count == 4
     finally:
         transfer.close()
+
+
+def test_the_straight_line_check_tests_every_half_cell_of_the_segment():
+    """``WayGrid.line_free`` against its definition: the segment's points at every half cell
+    (numpy's linspace), each in a free cell; on random segments around and across the wall."""
+    grid = WaySense(world()).grid
+    rng = np.random.default_rng(3)
+    answers = []
+    for _ in range(2000):
+        a, b = rng.uniform(-0.5, 8.5, 2), rng.uniform(0.0, 8.0, 2)
+        n = max(1, math.ceil(math.hypot(*(b - a)) / (grid.cell / 2)))
+        points = a + np.outer(np.linspace(0.0, 1.0, n + 1), b - a)
+        i = np.clip(((points[:, 0] - grid.x0) // grid.cell).astype(int), 0, grid.nx - 1)
+        j = np.clip(((points[:, 1] - grid.y0) // grid.cell).astype(int), 0, grid.ny - 1)
+        answers.append(bool(grid.free[i, j].all()))
+        assert grid.line_free(tuple(a), tuple(b)) == answers[-1], (a, b)
+    assert 0.2 < np.mean(answers) < 0.8  # both answers were asked for
