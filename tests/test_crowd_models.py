@@ -1,0 +1,71 @@
+"""The pedestrians' motion models against forces and encounters worked out by hand."""
+
+import math
+
+import numpy as np
+import pytest
+
+from dynnav_tasks.crowd import social_force as sf
+from dynnav_tasks.crowd.orca import orca_line, orca_velocities, solve
+
+DT = 0.2
+
+
+def test_the_social_force_of_two_pedestrians_is_the_papers_by_hand():
+    """A at (0, 0) and B at (1, 0), both of radius 0.3, both walking +x at 0.5 m/s towards goals at
+    x = 10 with a preferred speed of 1 m/s. Gap 1 - 0.6 = 0.4 m, so each pushes the other with
+    (V0 / sigma) exp(-0.4 / sigma) = 7 exp(-4/3) = 1.84518 m/s^2; B is ahead of A (weight 1), A is
+    behind B (weight c = 0.5). The goal's pull on each: (1 - 0.5) / tau = 1 m/s^2."""
+    push = 2.1 / 0.3 * math.exp(-0.4 / 0.3)
+    assert push == pytest.approx(1.8451799668, rel=1e-9)
+    a = sf.accelerations(positions=np.array([[0.0, 0.0], [1.0, 0.0]]), velocities=np.array([[0.5, 0.0], [0.5, 0.0]]),
+                         radii=np.array([0.3, 0.3]), goals=np.array([[10.0, 0.0], [10.0, 0.0]]),
+                         preferred_speeds=np.array([1.0, 1.0]))
+    np.testing.assert_allclose(a, [[1.0 - push, 0.0], [1.0 + 0.5 * push, 0.0]], rtol=1e-12, atol=1e-12)
+
+
+def test_a_wall_and_a_robot_push_as_the_paper_says():
+    """A pedestrian at rest at its goal (no pull), 1 m above a box whose top edge is y = 0 (gap 0.7 m:
+    (U0 / R) exp(-0.7 / R) = 50 exp(-3.5) up), with a robot of radius 0.3 at 1.3 m to its right
+    (gap 0.7 m: 7 exp(-0.7 / 0.3) to the left; with no goal every body counts fully)."""
+    a = sf.accelerations(np.array([[0.5, 1.0]]), np.zeros((1, 2)), np.array([0.3]), np.array([[0.5, 1.0]]),
+                         np.array([1.0]), bodies=(np.array([[1.8, 1.0]]), np.array([0.3])),
+                         boxes=np.array([[0.0, -1.0, 1.0, 0.0]]))
+    np.testing.assert_allclose(a, [[-7.0 * math.exp(-0.7 / 0.3), 50.0 * math.exp(-3.5)]], rtol=1e-12)
+
+
+def test_a_push_cannot_make_a_pedestrian_faster_than_its_limit():
+    v = sf.step_velocities(np.array([[1.0, 0.0], [0.2, 0.0]]), np.array([[10.0, 0.0], [1.0, 0.0]]),
+                           np.array([1.0, 1.0]), DT)
+    np.testing.assert_allclose(v, [[1.3, 0.0], [0.4, 0.0]])  # capped at 1.3 v0; the other free
+
+
+def test_an_orca_half_plane_asks_each_agent_for_half_the_way_out():
+    """An agent at the origin at 1.5 m/s towards a resting neighbour 2 m ahead, radii 0.5 each,
+    horizon 1 s: the velocities that collide within 1 s are the cone cut off by the disc of centre
+    (2, 0) and radius 1; the relative velocity (1.5, 0) lies in it, 0.5 m/s past its edge x = 1.
+    Sharing the avoidance, the agent takes half: its velocity must keep x <= 1.25."""
+    line = orca_line((0.0, 0.0), (1.5, 0.0), 0.5, (2.0, 0.0), (0.0, 0.0), 0.5, time_horizon=1.0, dt=DT)
+    assert line.point == pytest.approx((1.25, 0.0)) and line.direction == pytest.approx((0.0, 1.0))
+    assert solve([line], 3.0, (1.5, 0.0)) == pytest.approx((1.25, 0.0))  # the permitted velocity nearest its wish
+    assert solve([line], 3.0, (1.0, 0.7)) == pytest.approx((1.0, 0.7))  # a permitted wish is kept
+    whole = orca_line((0.0, 0.0), (1.5, 0.0), 0.5, (2.0, 0.0), (0.0, 0.0), 0.5, 1.0, DT, responsibility=1.0)
+    assert whole.point == pytest.approx((1.0, 0.0))  # towards a neighbour that does not avoid: the whole way
+
+
+@pytest.mark.parametrize("offset", [0.05, 0.2])
+def test_two_orca_agents_on_a_head_on_course_pass_without_contact(offset):
+    """Two agents of radius 0.3 walk towards each other's start, 6 m apart and ``offset`` m off
+    the same line: they pass (each ends at its goal) and their centres never come closer than 0.6 m."""
+    p = np.array([[-3.0, offset / 2], [3.0, -offset / 2]])
+    goals, v, radii, speeds = p[::-1].copy(), np.zeros((2, 2)), np.full(2, 0.3), np.full(2, 1.0)
+    closest = math.inf
+    for _ in range(60):
+        to_goal = goals - p
+        distance = np.hypot(to_goal[:, 0], to_goal[:, 1])
+        preferred = to_goal / np.maximum(distance, 1e-9)[:, None] * np.minimum(speeds, distance / DT)[:, None]
+        v = orca_velocities(p, v, radii, preferred, speeds, DT)
+        p = p + v * DT
+        closest = min(closest, float(np.hypot(*(p[0] - p[1]))))
+    assert closest >= 0.6 - 1e-6
+    np.testing.assert_allclose(p, goals, atol=0.05)
