@@ -69,3 +69,33 @@ def test_two_orca_agents_on_a_head_on_course_pass_without_contact(offset):
         closest = min(closest, float(np.hypot(*(p[0] - p[1]))))
     assert closest >= 0.6 - 1e-6
     np.testing.assert_allclose(p, goals, atol=0.05)
+
+
+def test_the_social_metrics_of_a_scripted_episode_are_those_worked_out_by_hand():
+    """A robot of radius 0.3 starts at (0, 0) facing +y with the target at (2, 0) (a quarter turn
+    needed), turns to +x, then drives 0.5, 0.5 and 1.0 m; one human of radius 0.3 stands at (1, 1).
+    Edge gaps after each step: 1.414 - 0.6, 1.118 - 0.6, 1.0 - 0.6 = 0.4 (personal space), then
+    1.414 - 0.6 (one step of four violates 0.45 m, none 0.2 m). Path 2 m, and the only turn was
+    the needed one, so irregularity 0. Then the same robot facing the target turns 0.5 rad away and
+    back while driving 1 m: 1 rad of turning that was not needed, per metre."""
+    from dynnav_tasks.crowd.metrics import SocialMetrics
+
+    m = SocialMetrics(robot_radius=0.3, dt=0.2)
+    m.start(0.0, 0.0, math.pi / 2, (2.0, 0.0))
+    human = ([[1.0, 1.0]], [0.3])
+    for x, yaw in [(0.0, 0.0), (0.5, 0.0), (1.0, 0.0), (2.0, 0.0)]:
+        m.step(x, 0.0, yaw, *human)
+    r = m.result(success=True, shortest=1.7)
+    assert r["min_human_distance"] == pytest.approx(0.4)
+    assert r["personal_space_compliance"] == pytest.approx(0.75) and r["discomfort_frequency"] == 0.0
+    assert r["time_to_goal"] == pytest.approx(0.8) and r["path_length"] == pytest.approx(2.0)
+    assert r["spl"] == pytest.approx(0.85) and r["path_irregularity"] == pytest.approx(0.0)
+    # x at the five positions: 0, 0, 0.5, 1, 2; differences 0, 0.5, 0.5, 1; second 0.5, 0, 0.5;
+    # third -0.5, 0.5: |d3| / dt^3 = 0.5 / 0.008 = 62.5 m/s^3 each
+    assert r["jerk"] == pytest.approx(62.5)
+    m.start(0.0, 0.0, 0.0, (2.0, 0.0))  # facing the target: every turn is extra
+    for x, yaw in [(0.5, 0.5), (1.0, 0.0)]:
+        m.step(x, 0.0, yaw)
+    r = m.result(success=False, shortest=1.7)
+    assert r["path_irregularity"] == pytest.approx(1.0 / 1.0) and r["spl"] == 0.0
+    assert math.isnan(r["time_to_goal"]) and math.isnan(r["jerk"]) and r["min_human_distance"] == math.inf
