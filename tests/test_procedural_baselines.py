@@ -101,3 +101,22 @@ def test_cells_are_recorded_per_controller_difficulty_and_split_and_bad_choices_
     with pytest.raises(SystemExit, match="--episodes must be >= 1"):
         run_over_cells(TASK, None, None, 0, 0, fake_run, controller="x", out=str(out))
     assert calls == [] and sorted(json.loads(out.read_text())) == sorted(data)
+
+
+def test_dwa_goes_round_blocks_and_through_a_doorway_on_the_scan_and_the_static_map():
+    """The dynamic window on the continuous drive, reading the 16 laser rays: round a 1 m block
+    that stands on the straight way, and through the doorway of a wall (the way through the static
+    map gives its heading), without touching either; the discrete drive is refused."""
+    from dynnav_tasks.baselines.dwa import DWA, DWAConfig
+
+    blocked = _world([(4.25, 3.75), (4.25, 4.25), (3.75, 3.75), (3.75, 4.25)], (6.0, 6.0))
+    for world in (blocked, WALL_WITH_DOOR):
+        result = run_episodes("dwa", TASK, [0, 1], DWA(), options={"world": world}, control_mode="diff_drive_vel")
+        assert result.outcomes == ["success", "success"], result.summary()
+    # without the map's way it stalls in front of the wall, pushing towards the target: never a collision
+    result = run_episodes("dwa", TASK, [0], DWA(DWAConfig(follow_way=False)), options={"world": WALL_WITH_DOOR},
+                          control_mode="diff_drive_vel")
+    assert result.outcomes == ["timeout"], result.summary()
+    with pytest.raises(ValueError, match=r"commands velocities: make the task with control_mode='diff_drive_vel', "
+                                         r"not 'discrete_drive'"):
+        run_episodes("dwa", TASK, [0], DWA(), options={"world": blocked})

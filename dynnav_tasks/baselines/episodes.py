@@ -1,9 +1,10 @@
 """Whole episodes of a scripted controller, with each one's outcome, steps and SPL.
 
 A controller here is any object with ``start(env)`` (called after every reset with the task,
-``env.unwrapped``) and ``act(env) -> int`` (the next action; it may read the task's public
-state: ``snapshot``, ``world``, ``obstacle_motions``): the discrete drive's actions, so the
-task must run ``control_mode="discrete_drive"`` (the default). ``run_episodes`` plays one episode
+``env.unwrapped``) and ``act(env)`` (the next action; it may read the task's public state:
+``snapshot``, ``world``, ``obstacle_motions``), and optionally ``control_mode``, the drive its
+actions are for: the discrete drive's (the default, the task's ``control_mode="discrete_drive"``)
+or the velocity drive's (``"diff_drive_vel"``). ``run_episodes`` plays one episode
 per seed and returns an ``EpisodeResults``.
 
 SPL (success weighted by path length, Anderson et al. 2018) is the mean over episodes of
@@ -23,7 +24,7 @@ from dataclasses import dataclass, field
 from typing import Optional, Protocol
 
 from dynnav_tasks.baselines.way_grid import WayGrid
-from dynnav_tasks.drive import require_discrete_drive
+from dynnav_tasks.drive import DISCRETE_DRIVE
 from dynnav_tasks.outcomes import outcome_of
 from dynnav_tasks.robot import FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH
 
@@ -110,13 +111,12 @@ def run_episodes(label: str, task_id: str, seeds, controller: Controller, progre
     ``options`` go to every reset (e.g. ``{"world": w}`` for a procedural task)."""
     from dynnav_tasks import NumpyWrapper, make
 
+    mode, given = getattr(controller, "control_mode", DISCRETE_DRIVE), task_kwargs.get("control_mode", DISCRETE_DRIVE)
+    if given != mode:
+        what = "chooses among the three discrete actions" if mode == DISCRETE_DRIVE else "commands velocities"
+        raise ValueError(f"{label}'s controller {what}: make the task with control_mode={mode!r}, not {given!r}")
     env = NumpyWrapper(make(task_id, obs_mode="state", **task_kwargs))
     base = env.unwrapped
-    try:
-        require_discrete_drive(base, f"{label}'s controller")
-    except ValueError:
-        env.close()
-        raise
     seeds = [int(s) for s in seeds]
     if progress:
         from tqdm import tqdm
