@@ -192,3 +192,18 @@ def test_the_generalists_learning_curves_are_drawn_once_it_has_a_run(tmp_path):
         text = write_report(tmp_path / name / "results", out=tmp_path / name / "RESULTS.md").read_text()
         drawn = (tmp_path / name / "docs" / "results" / "generalist.png").is_file()
         assert drawn == (name == "with") and ("(docs/results/generalist.png)" in text) == drawn
+
+
+def test_the_generalist_page_shows_the_tables_of_the_run_table():
+    """docs/generalist.md's tables are those ``python -m agents.study.generalist`` makes from results/."""
+    import re
+
+    from agents.study.generalist import docs_tables
+
+    root = Path(__file__).resolve().parents[1]
+    page = (root / "docs" / "generalist.md").read_text(encoding="utf-8")
+    shown = re.search(r"<!-- tables -->\n(.*?)\n<!-- end tables -->", page, re.DOTALL)
+    assert shown, "docs/generalist.md lacks the <!-- tables --> ... <!-- end tables --> block"
+    made = docs_tables(root / "results", root / "docs" / "results" / "ceilings.json",
+                       root / "docs" / "results" / "procedural_ceilings.json")
+    assert shown[1].strip() == made.strip(), "paste `python -m agents.study.generalist` into docs/generalist.md"

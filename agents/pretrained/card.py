@@ -14,6 +14,7 @@ from pathlib import Path
 import yaml
 
 from agents.files import atomic_write_bytes, megabytes
+from agents.pretrained.catalogue import CELLS
 from agents.training import pretrained_files as files
 
 CHECK_EPISODES = 20
@@ -97,10 +98,11 @@ def models_table(root: str | Path | None = None) -> str:
     """The Markdown table of the models in ``root`` (default: the repository's): cell, row, seed,
     test success, size; what docs/pretrained.md shows."""
     root = Path(root) if root is not None else files.models_root()
-    lines = ["| model | row (configs/study/) | seed | test success | episodes | size |", "|---|---|---|---|---|---|"]
+    lines = ["| model | row (configs/) | seed | test success | episodes | size |", "|---|---|---|---|---|---|"]
     for name in files.available(root):
         facts = read(root / name)
         t = facts["test"]
-        lines.append(f"| `pretrained:{name}` | `{facts['row']}` | {facts['seed']} | {t['success']:.0%} | "
+        row = f"{CELLS[name].folder}/{facts['row']}" if name in CELLS else facts["row"]
+        lines.append(f"| `pretrained:{name}` | `{row}` | {facts['seed']} | {t['success']:.0%} | "
                      f"{t['episodes']} | {megabytes(folder_size(root / name))} |")
     return "\n".join(lines)

@@ -16,6 +16,8 @@ with ``ablation-``; ``generalization.procedural_table`` leaves both to these tab
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 
 from dynnav_tasks.task_options import parse_task_options
@@ -117,3 +119,39 @@ def ablation_table(rows: list[dict]) -> list[str]:
                      + " | ".join(_pct(v) for v, _ in values) + f" | {_pct(mean)} | "
                      + ("-" if cost is None else f"{cost:.0f}") + " |")
     return lines
+
+
+def docs_tables(table: str | Path, ceilings: str | Path, procedural_ceilings: str | Path) -> str:
+    """The block docs/generalist.md shows between ``<!-- tables -->`` and ``<!-- end tables -->``:
+    the generalist table and the ablation table of the run table in ``table`` (what RESULTS.md shows)."""
+    from agents.study.cells import load_ceilings
+    from agents.study.generalization import load_cells
+    from agents.study.table import read_table
+
+    rows = read_table(table)
+    generalist = generalist_table(rows, load_cells(procedural_ceilings), load_ceilings(ceilings))
+    ablation = ablation_table(rows)
+    parts = []
+    if generalist:
+        parts.append("\n".join(["The generalist on every held-out cell (greedy test success, 100 episodes per cell "
+                                "and seed, means over seeds):", "", *generalist]))
+    if ablation:
+        parts.append("\n".join(["The ablation (students fitted on one imitation run's labelled episodes, 100 held-out "
+                                "test episodes per difficulty and seed):", "", *ablation]))
+    return "\n\n".join(parts)
+
+
+def main(argv: list[str] | None = None) -> None:
+    """``python -m agents.study.generalist``: print the tables docs/generalist.md shows."""
+    import argparse
+
+    root = Path(__file__).resolve().parents[2]
+    parser = argparse.ArgumentParser(prog="python -m agents.study.generalist", description=main.__doc__)
+    parser.add_argument("--table", default=str(root / "results"), help="run table folder (default results/)")
+    args = parser.parse_args(argv)
+    print(docs_tables(args.table, root / "docs" / "results" / "ceilings.json",
+                      root / "docs" / "results" / "procedural_ceilings.json"))
+
+
+if __name__ == "__main__":
+    main()
