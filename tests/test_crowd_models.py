@@ -99,3 +99,53 @@ def test_the_social_metrics_of_a_scripted_episode_are_those_worked_out_by_hand()
     r = m.result(success=False, shortest=1.7)
     assert r["path_irregularity"] == pytest.approx(1.0 / 1.0) and r["spl"] == 0.0
     assert math.isnan(r["time_to_goal"]) and math.isnan(r["jerk"]) and r["min_human_distance"] == math.inf
+
+
+@pytest.mark.parametrize("scenario", ["circle_crossing", "square_crossing", "corridor"])
+@pytest.mark.parametrize("model", ["orca", "social_force"])
+def test_a_crowd_starts_spaced_walks_to_its_goals_and_takes_new_ones(scenario, model):
+    """Ten pedestrians start 0.2 m apart or more (and clear of the robot's start and target),
+    never overlap, and reach goals (each a new one after) within a minute of walking."""
+    from dynnav_tasks.crowd.crowd import Crowd, Pedestrians
+
+    crowd, rng = Crowd(Pedestrians(10, model=model, scenario=scenario)), np.random.default_rng(0)
+    crowd.reset(rng, keep_clear=[(0.0, -4.0), (0.0, 4.0)])
+    gaps = np.hypot(*(crowd.positions[:, None] - crowd.positions[None]).transpose(2, 0, 1)) + np.eye(10) * 9
+    assert gaps.min() >= 0.8 - 1e-9
+    assert np.hypot(*(crowd.positions - [0.0, -4.0]).T).min() >= 0.8 - 1e-9
+    reached = 0
+    for _ in range(300):  # 60 s
+        goals = crowd.goals.copy()
+        crowd.step(DT, rng)
+        reached += int((crowd.goals != goals).any(axis=1).sum())
+        gaps = np.hypot(*(crowd.positions[:, None] - crowd.positions[None]).transpose(2, 0, 1)) + np.eye(10) * 9
+        assert gaps.min() >= 0.6 - 0.01  # bodies of 0.3 m never (more than a centimetre) inside each other
+    assert reached >= 10
+
+
+@pytest.mark.parametrize("model", ["orca", "social_force"])
+def test_pedestrians_avoid_a_robot_they_see_and_walk_into_one_they_do_not(model):
+    """One pedestrian walks from (-3, 0) to (3, 0) past a robot (radius 0.3) standing at (0, 0.05):
+    seeing it, it keeps its body clear; blind to it, it walks through where the robot stands."""
+    from dynnav_tasks.crowd.crowd import Crowd, Pedestrians
+
+    closest = {}
+    for visible in (True, False):
+        crowd = Crowd(Pedestrians(1, model=model, scenario="corridor", square_width=6.0))
+        crowd.reset(np.random.default_rng(0))
+        crowd.positions[0], crowd.goals[0] = (-3.0, 0.0), (3.0, 0.0)
+        robot = ((0.0, 0.05), (0.0, 0.0), 0.3)
+        closest[visible] = math.inf
+        for _ in range(60):
+            crowd.step(DT, np.random.default_rng(1), robot=robot if visible else None)
+            closest[visible] = min(closest[visible], float(np.hypot(*(crowd.positions[0] - robot[0]))))
+    assert closest[True] >= 0.6 - 0.01 and closest[False] < 0.1
+
+
+def test_a_crowd_that_cannot_fit_is_refused():
+    from dynnav_tasks.crowd.crowd import Crowd, Pedestrians, PlacementError
+
+    with pytest.raises(PlacementError, match="do not fit the circle_crossing scenario"):
+        Crowd(Pedestrians(60, circle_radius=1.0)).reset(np.random.default_rng(0))
+    with pytest.raises(ValueError, match="pedestrian model 'rvo' is not one of social_force, orca"):
+        Pedestrians(5, model="rvo")
