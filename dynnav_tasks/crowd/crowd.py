@@ -78,6 +78,9 @@ class Pedestrians:
     """m: the least gap between two bodies at the start (CrowdNav's discomfort distance)"""
     time_horizon: float = 5.0
     """s: ORCA's horizon (CrowdNav's 5 s)"""
+    see_robot: bool = False
+    """whether the pedestrians avoid the robot (visible) or walk as if it were not there
+    (invisible, CrowdNav's harder setting, where the robot must do all the avoiding)"""
     social_force: social_force.SocialForceParams = field(default_factory=social_force.SocialForceParams)
 
     def __post_init__(self):
