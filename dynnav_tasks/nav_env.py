@@ -16,6 +16,15 @@ Episode rules
     * timeout: ``max_episode_steps`` (200) steps without either; the episode is truncated,
       not terminated.
 
+Pedestrians (``World.pedestrians``, ``crowd/``)
+    Upright kinematic cylinders placed at every reset (after the robot: clear of its start and
+    the target) and moved every control step by their crowd's model, which sees the robot or
+    not (``Pedestrians.see_robot``); their kinematic targets are interpolated over the sub-steps
+    as the boxes' are. A collision with one is a collision, and ``info["human_collision"]`` says
+    so (False in every other world). The info of an episode's last step also holds its social
+    metrics (``crowd/metrics.py``: minimum distance, personal-space compliance, discomfort
+    frequency, time to goal, path length, SPL, path irregularity, jerk).
+
 Reward
     ``reward_mode`` picks one of ``rewards.SUPPORTED_REWARD_MODES``: the study's (default
     ``distance_orientation_always``, Eq. 4.6) and ManiSkill's ``dense`` (the same),
@@ -59,6 +68,7 @@ from mani_skill.utils.structs.types import SceneConfig, SimConfig
 from . import rewards as R
 from .camera import CameraSpec
 from .crowd.crowd import Crowd
+from .crowd.metrics import SocialMetrics
 from .drive import CONTROL_MODES, DISCRETE_DRIVE, VelocityDriveConfig
 from .errors import check_choice
 from .lasers import LASER_RANGE, NUM_LASERS, LaserConfig
@@ -219,6 +229,7 @@ class NavEnv(Observations, TopDownView, BaseEnv):
         """The crowd of ``self.world.pedestrians`` (``crowd.crowd.Crowd``) and the bodies it moves."""
         spec, bodies = self.world.pedestrians, built.pedestrian_bodies
         self._crowd = Crowd(spec) if spec is not None and spec.count else None
+        self._social = SocialMetrics(ROBOT_RADIUS, 1.0 / self._control_freq) if self._crowd is not None else None
         self._human_bodies = bodies
         self._sensing.set_pedestrians(bodies, [spec.radius] * len(bodies) if spec is not None else [])
         if self._crowd is None:
@@ -267,6 +278,9 @@ class NavEnv(Observations, TopDownView, BaseEnv):
                 body.entity.set_pose(pose)
                 body.set_kinematic_target(pose)
         self._robot_velocity = (0.0, 0.0)
+        if self._crowd is not None:  # the episode's social metrics (``crowd.metrics``), from the start
+            self._social.start(*start, self._target_xy)
+            self._shortest = max(float(np.hypot(*np.subtract(self._target_xy, start[:2]))) - self.reach_radius, 0.0)
         self.agent.controller.reset()
         # nothing has been simulated since the placement: PhysX's contacts are the last episode's
         self._snapshot = self._take_snapshot(step=0, contact=False, previous=None)
@@ -304,6 +318,11 @@ class NavEnv(Observations, TopDownView, BaseEnv):
             self._reward_mode, prev, self._snapshot, self.reward_params,
             reached=result["success"], collided=result["collision"], bound=self.reward_bound,
         )
+        if self._social is not None:
+            s = self._snapshot
+            self._social.step(*s.pose, s.human_xy, s.human_radius)
+            if result["success"] or result["collision"] or result["timeout"]:  # the episode's end: its metrics
+                result.update(self._social.result(result["success"], self._shortest))
         if numpy_obs:
             obs = self._obs_numpy = self.observation_numpy()
         else:

@@ -90,3 +90,26 @@ def test_a_crowd_replays_bit_for_bit_from_its_seed():
         assert np.abs(runs[0][-1] - runs[0][0]).max() > 1.0  # they walked
     finally:
         env.close()
+
+
+def test_a_crowd_episode_ends_with_its_social_metrics():
+    """DynNav-Crowd-v1's last step carries the episode's social metrics; the minimum distance is
+    the least edge-to-edge gap of the snapshots, worked out here from their positions."""
+    from dynnav_tasks.crowd.metrics import DISCOMFORT
+    from dynnav_tasks.nav_env import ROBOT_RADIUS
+
+    env = dynnav_tasks.NumpyWrapper(gym.make("DynNav-Crowd-v1", humans=5))
+    try:
+        env.reset(seed=3)
+        gaps, done = [], False
+        while not done:
+            _, _, terminated, truncated, info = env.step(0)  # straight on, into the crowd
+            s = env.unwrapped.snapshot
+            gaps.append(float((np.hypot(*(s.human_xy - s.pose[:2]).T) - s.human_radius - ROBOT_RADIUS).min()))
+            done = terminated or truncated
+            assert done or "min_human_distance" not in info
+        assert info["min_human_distance"] == pytest.approx(min(gaps))
+        assert info["discomfort_frequency"] == pytest.approx(np.mean(np.array(gaps) < DISCOMFORT))
+        assert info["path_length"] == pytest.approx(s.path_length)
+    finally:
+        env.close()
