@@ -113,3 +113,51 @@ def test_a_crowd_episode_ends_with_its_social_metrics():
         assert info["path_length"] == pytest.approx(s.path_length)
     finally:
         env.close()
+
+
+def test_the_orca_robot_passes_a_pedestrian_that_a_straight_drive_hits():
+    """A pedestrian blind to the robot walks head-on from (3, 0.05) to (-3, 0.05); the target is at
+    (4, 0). Driving straight at the pedestrians' speed collides with it; the robot driven by ORCA,
+    taking the whole avoidance, goes round it and reaches the target."""
+    model = "orca"
+    from dynnav_tasks.baselines.crowd_robot import CrowdRobot
+
+    world = World(targets=(Static((4.0, 0.0)),), arena=Arena((-5.0, 5.0), (-5.0, 5.0)), start=START,
+                  pedestrians=Pedestrians(1, scenario="corridor", corridor_width=9.0))
+    name = f"TestHeadOn{model.title().replace('_', '')}-v1"
+    register_env(name, max_episode_steps=200)(type(name.replace("-", ""), (NavEnv,), {"world": world}))
+    env = dynnav_tasks.NumpyWrapper(gym.make(name, control_mode="diff_drive_vel"))
+    try:
+        outcomes = {}
+        for driver in ("straight", model):
+            env.reset(seed=0)
+            env.unwrapped.place_pedestrians([(3.0, 0.05)], goals=[(-3.0, 0.05)])
+            robot = CrowdRobot(model)
+            robot.start(env.unwrapped)
+            done = False
+            while not done:
+                action = np.array([0.75, 0.0], np.float32) if driver == "straight" else robot.act(env.unwrapped)
+                _, _, terminated, truncated, info = env.step(action)
+                done = terminated or truncated
+            outcomes[driver] = dynnav_tasks.outcome_of(info, terminated), info["human_collision"]
+        assert outcomes == {"straight": ("collision", True), model: ("success", False)}
+    finally:
+        env.close()
+
+
+def test_a_crowd_robot_turns_a_velocity_into_the_drives_command():
+    """The model's velocity (m/s, world frame) from heading 0: straight ahead is driven as it is;
+    10 degrees off, v = |u| cos 10 deg and w = 10 deg over one 0.2 s step; beyond a right angle, turn
+    in place at the drive's top turn rate (5.236 rad/s)."""
+    from types import SimpleNamespace
+
+    from dynnav_tasks.baselines.crowd_robot import CrowdRobot
+
+    robot = CrowdRobot("orca")
+    robot.start(SimpleNamespace(controller_config=SimpleNamespace(max_linear_speed=1.2, max_angular_speed=5.236),
+                                world=World(targets=(Static((1.0, 1.0)),)), control_freq=5))
+    np.testing.assert_allclose(robot.command(0.6, 0.0, 0.0), [0.6, 0.0], atol=1e-7)
+    angle = np.radians(10.0)
+    np.testing.assert_allclose(robot.command(0.6 * np.cos(angle), 0.6 * np.sin(angle), 0.0),
+                               [0.6 * np.cos(angle), angle / 0.2], rtol=1e-6)
+    np.testing.assert_allclose(robot.command(-0.5, -0.1, 0.0), [0.0, -5.236], rtol=1e-6)

@@ -181,7 +181,7 @@ class Crowd:
         else:
             others = [] if robot is None else [(robot[0], robot[1], robot[2], 1.0)]  # the robot does not do its share
             if boxes is not None and len(boxes):
-                others += _box_neighbours(self.positions, np.asarray(boxes, float))
+                others += box_neighbours(self.positions, np.asarray(boxes, float))
             self.velocities = orca.orca_velocities(self.positions, self.velocities, self.radii,
                                                    self.preferred_velocities(dt), self.speeds, dt, s.time_horizon,
                                                    others=tuple(others))
@@ -201,7 +201,7 @@ class Crowd:
                                  else self._corridor_goal)(bool(self._east[i]), rng)
 
 
-def _box_neighbours(positions: np.ndarray, boxes: np.ndarray) -> list:
+def box_neighbours(positions: np.ndarray, boxes: np.ndarray) -> list:
     """For ORCA: the points of the boxes nearest to each pedestrian (within 2 m), as resting
     neighbours of radius 0 that every pedestrian avoids alone (each is a point of a box's surface,
     so avoiding it is right for all of them)."""
