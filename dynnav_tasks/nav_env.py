@@ -475,6 +475,11 @@ class NavEnv(Observations, TopDownView, BaseEnv):
         return tuple(EpisodeMotion.of(mover) for mover, _ in self._movers)
 
     @property
+    def pedestrian_goals(self) -> np.ndarray:
+        """(k, 2) where each pedestrian is heading now, in crowd order (a copy; (0, 2) without a crowd)."""
+        return self._crowd.goals.copy() if self._crowd is not None else np.zeros((0, 2))
+
+    @property
     def target_index(self) -> int:
         """Which of the world's targets this episode's robot must reach (0-based)."""
         return self._target_index
