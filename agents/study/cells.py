@@ -179,3 +179,14 @@ def find_configs(paths: list[str | Path]) -> dict[str, str]:
         for p in sorted(path.rglob("*.yaml")) if path.is_dir() else [path]:
             found[p.stem] = p.as_posix()
     return found
+
+
+def load_cells(path: str | Path | None) -> dict[str, dict]:
+    """The entries of a procedural ceilings file (``controller/difficulty/split`` -> rates), {} if none."""
+    if path is None or not Path(path).is_file():
+        return {}
+    try:
+        data = json.loads(Path(path).read_text())
+        return {k: dict(success=float(v["success"]), spl=float(v.get("spl", 0.0))) for k, v in data.items()}
+    except (ValueError, KeyError, TypeError, AttributeError) as err:
+        raise ValueError(f"procedural ceilings file {str(path)!r} is not what the baselines' --out writes: {err}")

@@ -124,8 +124,7 @@ def ablation_table(rows: list[dict]) -> list[str]:
 def docs_tables(table: str | Path, ceilings: str | Path, procedural_ceilings: str | Path) -> str:
     """The block docs/generalist.md shows between ``<!-- tables -->`` and ``<!-- end tables -->``:
     the generalist table and the ablation table of the run table in ``table`` (what RESULTS.md shows)."""
-    from agents.study.cells import load_ceilings
-    from agents.study.generalization import load_cells
+    from agents.study.cells import load_ceilings, load_cells
     from agents.study.table import read_table
 
     rows = read_table(table)

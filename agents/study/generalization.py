@@ -206,16 +206,3 @@ def generalization_section(rows: list[dict], episodes: list[dict], cells: dict[s
                   "there (5.3 with more boxes: its state keeps two obstacle places, the two nearest; noise: "
                   "`dynnav_tasks/noise.py`).", "", *transfer]
     return lines
-
-
-def load_cells(path: str | Path | None) -> dict[str, dict]:
-    """The entries of a procedural ceilings file (``controller/difficulty/split`` -> rates), {} if none."""
-    import json
-
-    if path is None or not Path(path).is_file():
-        return {}
-    try:
-        data = json.loads(Path(path).read_text())
-        return {k: dict(success=float(v["success"]), spl=float(v.get("spl", 0.0))) for k, v in data.items()}
-    except (ValueError, KeyError, TypeError, AttributeError) as err:
-        raise ValueError(f"procedural ceilings file {str(path)!r} is not what the baselines' --out writes: {err}")

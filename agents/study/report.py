@@ -41,11 +41,11 @@ from pathlib import Path
 import numpy as np
 
 from agents.files import atomic_write_bytes
-from agents.study.cells import (cells_table, find_configs, format_ceiling, load_ceilings, memory_section,
+from agents.study.cells import (cells_table, find_configs, format_ceiling, load_ceilings, load_cells, memory_section,
                                 short_of_seeds, study_rate, t975, wide_intervals)
 from agents.study.figures import SUCCESS_PANELS, block_size, caption, write_figures
 from agents.study.generalist import figures_of as generalist_figures
-from agents.study.generalization import generalization_section, load_cells
+from agents.study.generalization import generalization_section
 from agents.study.numbers import FIGURES, THESIS
 from agents.study.table import DEFAULT_TABLE, RUNS, read_table
 from agents.training.stats import wilson_interval
