@@ -25,7 +25,7 @@ import tyro
 from dynnav_tasks.baselines.episodes import ROBOT_RADIUS, EpisodeResults, run_episodes
 from dynnav_tasks.baselines.way_grid import static_boxes
 from dynnav_tasks.crowd import orca, social_force
-from dynnav_tasks.crowd.crowd import MODELS, box_neighbours
+from dynnav_tasks.crowd.crowd import MODELS
 from dynnav_tasks.drive import VELOCITY_DRIVE
 from dynnav_tasks.errors import check_choice
 
@@ -68,9 +68,8 @@ class CrowdRobot:
             preferred = to_target / max(distance, 1e-9) * min(self._speed, distance / self._dt)
             others = [(tuple(p), tuple(v), float(r), self._share)
                       for p, v, r in zip(humans.tolist(), velocities.tolist(), np.asarray(s.human_radius).tolist())]
-            others += box_neighbours(here, self._boxes)
             wish = orca.orca_velocities(here, now, np.array([ROBOT_RADIUS]), preferred, speed, self._dt,
-                                        others=tuple(others))[0]
+                                        others=tuple(others), boxes=self._boxes)[0]
         else:
             a = social_force.accelerations(here, now, np.array([ROBOT_RADIUS]), target, speed,
                                            bodies=(humans, np.asarray(s.human_radius, dtype=np.float64)),

@@ -10,8 +10,9 @@ already overlapping a neighbour takes the half-plane that separates them within 
 
 ``responsibility`` is the share of the avoidance an agent takes: 0.5 between two ORCA agents,
 1 towards a neighbour that does not avoid (a robot it sees that does not run ORCA, a static
-point). This is RVO2's ``Agent::computeNewVelocity`` without its static-obstacle lines: static
-structure enters as neighbours of zero velocity (``crowd.walls``).
+point). This is RVO2's ``Agent::computeNewVelocity`` without its static-obstacle lines: walls
+and static boxes enter as resting neighbours of radius 0 at each box's point nearest the agent,
+for the boxes within the distance the agent can cover in ``time_horizon`` (plus its radius).
 """
 
 from __future__ import annotations
@@ -165,13 +166,20 @@ def solve(lines: list[Line], max_speed: float, preferred) -> tuple[float, float]
 
 def orca_velocities(positions: np.ndarray, velocities: np.ndarray, radii: np.ndarray, preferred: np.ndarray,
                     max_speeds: np.ndarray, dt: float, time_horizon: float = 5.0, neighbour_distance: float = 10.0,
-                    max_neighbours: int = 10, others: tuple = ()) -> np.ndarray:
+                    max_neighbours: int = 10, others: tuple = (), boxes: np.ndarray | None = None) -> np.ndarray:
     """The new velocity (n, 2) of each of n ORCA agents (positions, velocities (n, 2); radii,
     max_speeds (n,); preferred velocities (n, 2)). Each avoids its ``max_neighbours`` nearest fellow
-    agents within ``neighbour_distance`` (sharing the avoidance) and every ``others`` entry,
-    (position, velocity, radius, responsibility) tuples: neighbours that are not ORCA agents."""
+    agents within ``neighbour_distance`` (sharing the avoidance), every ``others`` entry,
+    (position, velocity, radius, responsibility) tuples: neighbours that are not ORCA agents, and
+    the ``boxes`` (k, 4) as (lo_x, lo_y, hi_x, hi_y) (module docstring)."""
     n = len(positions)
     out = np.zeros((n, 2))
+    if boxes is not None and len(boxes):
+        boxes = np.asarray(boxes, dtype=np.float64)
+        nearest = np.stack([np.clip(positions[:, None, 0], boxes[None, :, 0], boxes[None, :, 2]),
+                            np.clip(positions[:, None, 1], boxes[None, :, 1], boxes[None, :, 3])], axis=-1)  # (n, k, 2)
+        reach = time_horizon * np.asarray(max_speeds, dtype=np.float64) + np.asarray(radii, dtype=np.float64)
+        close = np.hypot(*(nearest - positions[:, None, :]).transpose(2, 0, 1)) < reach[:, None]
     for i in range(n):
         p, v = positions[i], velocities[i]
         d = np.hypot(*(positions - p).T)
@@ -180,5 +188,8 @@ def orca_velocities(positions: np.ndarray, velocities: np.ndarray, radii: np.nda
         lines = [orca_line(p, v, radii[i], positions[j], velocities[j], radii[j], time_horizon, dt) for j in near]
         lines += [orca_line(p, v, radii[i], op, ov, orad, time_horizon, dt, share) for op, ov, orad, share in others
                   if math.hypot(op[0] - p[0], op[1] - p[1]) < neighbour_distance]
+        if boxes is not None and len(boxes):
+            lines += [orca_line(p, v, radii[i], q, (0.0, 0.0), 0.0, time_horizon, dt, 1.0)
+                      for q in nearest[i][close[i]].tolist()]
         out[i] = solve(lines, float(max_speeds[i]), (float(preferred[i][0]), float(preferred[i][1])))
     return out
