@@ -26,6 +26,10 @@ part                  meaning
                       yet), all in the robot's frame, then 1.0 (present). A slot with no
                       obstacle left to fill it holds ``PADDING``: (FAR, 0, 0, 0, 0.0), an
                       obstacle-free slot as far away as nothing in any arena can be
+``human{i}`` (5)      for i < ``human_k`` (0 unless the task says otherwise), the i-th nearest
+                      pedestrian (``world.pedestrians``), as an obstacle slot but with its
+                      radius (m) in place of "present": x, y, vx, vy, radius; an empty slot
+                      holds ``PADDING`` (radius 0)
 ====================  ======================================================================
 
 Relative velocity: the obstacle's displacement over the step minus the robot's, turned into
@@ -48,54 +52,65 @@ FAR = 30.0
 MAX_RELATIVE_STEP = 3.0
 """metres per control step: the largest relative velocity component"""
 OBSTACLE_FIELDS = ("x", "y", "vx", "vy", "present")
+HUMAN_FIELDS = ("x", "y", "vx", "vy", "radius")
+MAX_HUMAN_RADIUS = 1.0
+"""metres: the largest pedestrian radius a slot holds"""
 PADDING = np.array([FAR, 0.0, 0.0, 0.0, 0.0], dtype=np.float32)
 """the fields of an empty obstacle slot"""
 
 
-def egocentric_layout(num_lasers: int, k: int, way: bool = False) -> list[tuple[str, int]]:
+def egocentric_layout(num_lasers: int, k: int, way: bool = False, human_k: int = 0) -> list[tuple[str, int]]:
     """Names and sizes of the egocentric state's parts, in order (``way``: with the way part)."""
     return ([("lasers", num_lasers), ("target", 3)] + ([("way", 3)] if way else [])
-            + [(f"obstacle{i}", len(OBSTACLE_FIELDS)) for i in range(k)])
+            + [(f"obstacle{i}", len(OBSTACLE_FIELDS)) for i in range(k)]
+            + [(f"human{i}", len(HUMAN_FIELDS)) for i in range(human_k)])
 
 
-def egocentric_space(num_lasers: int, laser_range: float, k: int, way: bool = False) -> gym.spaces.Box:
+def egocentric_space(num_lasers: int, laser_range: float, k: int, way: bool = False,
+                     human_k: int = 0) -> gym.spaces.Box:
     """The egocentric state's observation space (bounds as the module docstring gives)."""
     slot_low = [-FAR, -FAR, -MAX_RELATIVE_STEP, -MAX_RELATIVE_STEP, 0.0]
     slot_high = [FAR, FAR, MAX_RELATIVE_STEP, MAX_RELATIVE_STEP, 1.0]
+    human_high = slot_high[:4] + [MAX_HUMAN_RADIUS]
     heading_low, heading_high = [0.0, -1.0, -1.0], [FAR, 1.0, 1.0]  # a distance, then a sin and a cos
-    low = np.array([0.0] * num_lasers + heading_low * (2 if way else 1) + slot_low * k, dtype=np.float32)
-    high = np.array([laser_range] * num_lasers + heading_high * (2 if way else 1) + slot_high * k, dtype=np.float32)
+    low = np.array([0.0] * num_lasers + heading_low * (2 if way else 1) + slot_low * (k + human_k), dtype=np.float32)
+    high = np.array([laser_range] * num_lasers + heading_high * (2 if way else 1) + slot_high * k
+                    + human_high * human_k, dtype=np.float32)
     return gym.spaces.Box(low, high, dtype=np.float32)
 
 
 def egocentric_state(snapshot: StepSnapshot, before: StepSnapshot | None, k: int,
-                     way: tuple[float, float, float] | None = None) -> np.ndarray:
+                     way: tuple[float, float, float] | None = None, human_k: int = 0) -> np.ndarray:
     """The egocentric state of ``snapshot`` (module docstring); ``before``: the snapshot
     before the step that led to it (``None`` after a reset or a placement: velocities 0);
-    ``way``: the ``WaySense`` reading (length, sin, cos) for the ``way`` part, None without it.
-    Plain Python over the few obstacles: faster than numpy at these sizes."""
+    ``way``: the ``WaySense`` reading (length, sin, cos) for the ``way`` part, None without it;
+    ``human_k``: pedestrian slots. Plain Python over the few obstacles: faster than numpy at these sizes."""
     x, y, yaw = snapshot.pose
     n = len(snapshot.lasers)
-    out = np.empty(n + 3 + (3 if way is not None else 0) + len(PADDING) * k, dtype=np.float32)
+    out = np.empty(n + 3 + (3 if way is not None else 0) + len(PADDING) * (k + human_k), dtype=np.float32)
     out[:n] = snapshot.lasers
     bearing = snapshot.bearing
     tail = [min(snapshot.d1, FAR), math.sin(bearing), math.cos(bearing)]
     if way is not None:
         tail += [min(way[0], FAR), way[1], way[2]]
     if k:
-        tail += _nearest_obstacles(snapshot, before, k, x, y, yaw)
+        tail += _nearest(snapshot.moving_obstacle_xy.tolist(), before.moving_obstacle_xy.tolist() if before else None,
+                         None, before, k, x, y, yaw)
+    if human_k:
+        tail += _nearest(snapshot.human_xy.tolist(), before.human_xy.tolist() if before else None,
+                         snapshot.human_radius.tolist(), before, human_k, x, y, yaw)
     out[n:] = tail
     return out
 
 
-def _nearest_obstacles(snapshot: StepSnapshot, before: StepSnapshot | None, k: int, x: float, y: float, yaw: float):
-    """The ``k`` obstacle slots, flat (``OBSTACLE_FIELDS`` each), nearest first, padded."""
-    moving = snapshot.moving_obstacle_xy.tolist()
+def _nearest(moving: list, previous: list | None, radius: list | None, before: StepSnapshot | None, k: int,
+             x: float, y: float, yaw: float):
+    """The ``k`` slots of the bodies at ``moving`` (``previous``: where they were a step before),
+    flat, nearest first, padded: the last field 1.0 (present) or, given ``radius``, each one's radius."""
     rows = sorted((dx * dx + dy * dy, j, dx, dy) for j, (dx, dy) in enumerate((ox - x, oy - y) for ox, oy in moving))
     c, s = math.cos(yaw), math.sin(yaw)
     if before is not None:
         bx, by, _ = before.pose
-        previous = before.moving_obstacle_xy.tolist()
         rx, ry = x - bx, y - by  # the robot's displacement over the step
     slots = []
     for _, j, dx, dy in rows[:k]:
@@ -105,7 +120,8 @@ def _nearest_obstacles(snapshot: StepSnapshot, before: StepSnapshot | None, k: i
             vx, vy = _clip(c * vx + s * vy, MAX_RELATIVE_STEP), _clip(-s * vx + c * vy, MAX_RELATIVE_STEP)
         else:
             vx = vy = 0.0
-        slots += (_clip(c * dx + s * dy, FAR), _clip(-s * dx + c * dy, FAR), vx, vy, 1.0)
+        slots += (_clip(c * dx + s * dy, FAR), _clip(-s * dx + c * dy, FAR), vx, vy,
+                  1.0 if radius is None else min(radius[j], MAX_HUMAN_RADIUS))
     return slots + _PADDING_LIST * (k - len(rows[:k]))
 
 

@@ -16,6 +16,15 @@ Episode rules
     * timeout: ``max_episode_steps`` (200) steps without either; the episode is truncated,
       not terminated.
 
+Pedestrians (``World.pedestrians``, ``crowd/``)
+    Upright kinematic cylinders placed at every reset (after the robot: clear of its start and
+    the target) and moved every control step by their crowd's model, which sees the robot or
+    not (``Pedestrians.see_robot``); their kinematic targets are interpolated over the sub-steps
+    as the boxes' are. A collision with one is a collision, and ``info["human_collision"]`` says
+    so (False in every other world). The info of an episode's last step also holds its social
+    metrics (``crowd/metrics.py``: minimum distance, personal-space compliance, discomfort
+    frequency, time to goal, path length, SPL, path irregularity, jerk).
+
 Reward
     ``reward_mode`` picks one of ``rewards.SUPPORTED_REWARD_MODES``: the study's (default
     ``distance_orientation_always``, Eq. 4.6) and ManiSkill's ``dense`` (the same),
@@ -58,6 +67,8 @@ from mani_skill.utils.structs.types import SceneConfig, SimConfig
 
 from . import rewards as R
 from .camera import CameraSpec
+from .crowd.crowd import Crowd
+from .crowd.metrics import SocialMetrics
 from .drive import CONTROL_MODES, DISCRETE_DRIVE, VelocityDriveConfig
 from .errors import check_choice
 from .lasers import LASER_RANGE, NUM_LASERS, LaserConfig
@@ -72,6 +83,9 @@ from .snapshot import StepSnapshot
 from .viz.top_down import TopDownView
 from .vulkan import explain, is_vulkan_error, keep_render_pipelines
 from .world import World
+
+ROBOT_RADIUS = float(np.hypot(FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH))
+"""m: the circle around the robot's footprint, as pedestrians that see it avoid it"""
 
 
 class NavEnv(Observations, TopDownView, BaseEnv):
@@ -209,6 +223,25 @@ class NavEnv(Observations, TopDownView, BaseEnv):
         self._kinematic_pose = sapien.Pose()
         self._targets = built.targets
         self._sensing.set_obstacles(self.world.arena.walls().values(), built.static_obstacle_xy, built.obstacle_half)
+        self._use_pedestrians(built)
+
+    def _use_pedestrians(self, built: BuiltWorld):
+        """The crowd of ``self.world.pedestrians`` (``crowd.crowd.Crowd``) and the bodies it moves."""
+        spec, bodies = self.world.pedestrians, built.pedestrian_bodies
+        self._crowd = Crowd(spec) if spec is not None and spec.count else None
+        self._social = SocialMetrics(ROBOT_RADIUS, 1.0 / self._control_freq) if self._crowd is not None else None
+        self._human_bodies = bodies
+        self._sensing.set_pedestrians(bodies, [spec.radius] * len(bodies) if spec is not None else [])
+        if self._crowd is None:
+            return
+        kinematic = np.empty((self._sim_steps_per_control, len(bodies), 3), dtype=np.float32)
+        kinematic[:, :, 2] = spec.height / 2
+        self._human_kinematic_xy = kinematic[:, :, :2]
+        self._human_rows = [list(rows) for rows in kinematic]
+        walls = [(c[0] - h[0], c[1] - h[1], c[0] + h[0], c[1] + h[1]) for c, h in self.world.arena.walls().values()]
+        static = [(c[0] - h[0], c[1] - h[1], c[0] + h[0], c[1] + h[1])
+                  for c, h in zip(built.static_obstacle_xy, built.obstacle_half)]
+        self._crowd_boxes = np.array(walls + static, dtype=np.float64).reshape(-1, 4)
 
     # ------------------------------------------------------------------ episodes
     def _initialize_episode(self, env_idx: torch.Tensor, options: dict):
@@ -235,7 +268,19 @@ class NavEnv(Observations, TopDownView, BaseEnv):
         self._moving_xy = np.concatenate(moving) if moving else np.zeros((0, 2))
         if self._noise is not None:  # this episode's speed factors, from the noise's own generators
             self._noise.start_episode(self.agent.controller, [mover for mover, _ in self._movers])
-        self.agent.set_pose2d(*world.start.sample(rng))
+        start = world.start.sample(rng)
+        self.agent.set_pose2d(*start)
+        if self._crowd is not None:  # the crowd last: the box worlds' draws stay what they were
+            self._crowd.reset(rng, keep_clear=[start[:2], self._target_xy])
+            pose = self._kinematic_pose
+            for body, (x, y) in zip(self._human_bodies, self._crowd.positions.tolist()):
+                pose.p = [x, y, self.world.pedestrians.height / 2]
+                body.entity.set_pose(pose)
+                body.set_kinematic_target(pose)
+        self._robot_velocity = (0.0, 0.0)
+        if self._crowd is not None:  # the episode's social metrics (``crowd.metrics``), from the start
+            self._social.start(*start, self._target_xy)
+            self._shortest = max(float(np.hypot(*np.subtract(self._target_xy, start[:2]))) - self.reach_radius, 0.0)
         self.agent.controller.reset()
         # nothing has been simulated since the placement: PhysX's contacts are the last episode's
         self._snapshot = self._take_snapshot(step=0, contact=False, previous=None)
@@ -266,11 +311,18 @@ class NavEnv(Observations, TopDownView, BaseEnv):
         prev = self._snapshot
         self._simulate()
         self._snapshot = self._take_snapshot(step=prev.step + 1, contact=None, previous=prev)
+        rate = float(self._control_freq)
+        self._robot_velocity = ((self._snapshot.pose[0] - prev.pose[0]) * rate, (self._snapshot.pose[1] - prev.pose[1]) * rate)
         result = self.outcome()  # evaluate()'s decision, as Python values
         self._reward = R.compute_reward(
             self._reward_mode, prev, self._snapshot, self.reward_params,
             reached=result["success"], collided=result["collision"], bound=self.reward_bound,
         )
+        if self._social is not None:
+            s = self._snapshot
+            self._social.step(*s.pose, s.human_xy, s.human_radius)
+            if result["success"] or result["collision"] or result["timeout"]:  # the episode's end: its metrics
+                result.update(self._social.result(result["success"], self._shortest))
         if numpy_obs:
             obs = self._obs_numpy = self.observation_numpy()
         else:
@@ -284,14 +336,32 @@ class NavEnv(Observations, TopDownView, BaseEnv):
         bodies, pose = self._moving_bodies, self._kinematic_pose  # PhysX copies a target's pose
         if bodies:  # kinematic targets, interpolated, in float32 (a Pose's precision)
             np.add(old_xy, (new_xy - old_xy) * self._sub_step_fractions, out=self._kinematic_xy, casting="same_kind")
-        for rows in self._kinematic_rows:  # one list of (x, y, z) rows per sub-step
+        humans, human_rows = self._advance_crowd()
+        for k, rows in enumerate(self._kinematic_rows):  # one list of (x, y, z) rows per sub-step
             before_sub_step()
             for body, p in zip(bodies, rows):
                 pose.p = p
                 body.set_kinematic_target(pose)
+            if humans:
+                for body, p in zip(humans, human_rows[k]):
+                    pose.p = p
+                    body.set_kinematic_target(pose)
             px_step()
         self._moving_xy = new_xy
         self._advance_targets()
+
+    def _advance_crowd(self):
+        """Move the crowd one control step; (its bodies, their (x, y, z) rows per sub-step) or
+        ((), None) without one."""
+        crowd = self._crowd
+        if crowd is None:
+            return (), None
+        old = crowd.positions.copy()
+        s = self._snapshot
+        robot = ((s.pose[0], s.pose[1]), self._robot_velocity, ROBOT_RADIUS) if crowd.spec.see_robot else None
+        new = crowd.step(1.0 / self._control_freq, self.np_random, robot=robot, boxes=self._crowd_boxes)
+        np.add(old, (new - old) * self._sub_step_fractions, out=self._human_kinematic_xy, casting="same_kind")
+        return self._human_bodies, self._human_rows
 
     def _advance_movers(self) -> np.ndarray:
         movers = self._movers
@@ -315,7 +385,8 @@ class NavEnv(Observations, TopDownView, BaseEnv):
     ) -> StepSnapshot:
         """``contact=None``: after a step, from PhysX's contacts and the footprint's overlap.
         Also makes the step's ``observed_snapshot``."""
-        snapshot = self._sensing.take(step, self._target_xy, self._moving_xy, contact, previous, placed)
+        humans = self._crowd.positions if self._crowd is not None else None
+        snapshot = self._sensing.take(step, self._target_xy, self._moving_xy, contact, previous, placed, humans)
         noise = self._noise
         self._observed = snapshot if noise is None else noise.perceive(snapshot, contact is None, self.world.arena)
         return snapshot
@@ -371,6 +442,7 @@ class NavEnv(Observations, TopDownView, BaseEnv):
             fail=collision,
             collision=collision,
             timeout=s.step >= self.max_episode_steps and not (success or collision),
+            human_collision=s.human_contact,
             distance_to_target=s.d1,
             path_length=s.path_length,
         )
@@ -403,6 +475,11 @@ class NavEnv(Observations, TopDownView, BaseEnv):
         return tuple(EpisodeMotion.of(mover) for mover, _ in self._movers)
 
     @property
+    def pedestrian_goals(self) -> np.ndarray:
+        """(k, 2) where each pedestrian is heading now, in crowd order (a copy; (0, 2) without a crowd)."""
+        return self._crowd.goals.copy() if self._crowd is not None else np.zeros((0, 2))
+
+    @property
     def target_index(self) -> int:
         """Which of the world's targets this episode's robot must reach (0-based)."""
         return self._target_index
@@ -418,6 +495,27 @@ class NavEnv(Observations, TopDownView, BaseEnv):
         super().close()
 
     # ------------------------------------------------------------------ convenience
+    def place_pedestrians(self, xy, goals=None):
+        """Put the crowd's pedestrians at ``xy`` (k, 2), at rest, heading for ``goals`` (k, 2;
+        default: where they stand), for tests and tools; takes a new snapshot (same step)."""
+        crowd = self._crowd
+        if crowd is None:
+            raise ValueError("this task's world has no pedestrians (World.pedestrians)")
+        xy = np.array(xy, dtype=np.float64).reshape(-1, 2)
+        if len(xy) != crowd.spec.count:
+            raise ValueError(f"the world has {crowd.spec.count} pedestrians; got {len(xy)} places")
+        crowd.positions = xy.copy()
+        crowd.velocities = np.zeros_like(xy)
+        crowd.goals = xy.copy() if goals is None else np.array(goals, dtype=np.float64).reshape(-1, 2)
+        crowd.starts = crowd.positions.copy()
+        pose = self._kinematic_pose
+        for body, (x, y) in zip(self._human_bodies, xy.tolist()):
+            pose.p = [x, y, self.world.pedestrians.height / 2]
+            body.entity.set_pose(pose)
+            body.set_kinematic_target(pose)
+        prev = self.snapshot
+        self._snapshot = self._take_snapshot(step=prev.step, contact=False, previous=prev, placed=True)
+
     def place_robot(self, x: float, y: float, yaw: float):
         """Teleport the robot (for tests and tools) and take a new snapshot (same step, same
         path length, no contact: nothing was simulated); returns the state vector."""

@@ -7,14 +7,15 @@ tells things apart by colour alone, and a shaded face never takes another object
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import sapien
 
 from .maniskill_adapter import physx_body, sapien_object
 from .motion import Mover
-from .world import FLOOR_COLOR, MOVING_OBSTACLE_COLOR, STATIC_OBSTACLE_COLOR, TARGET_COLOR, WALL_COLORS, World
+from .world import (FLOOR_COLOR, MOVING_OBSTACLE_COLOR, PEDESTRIAN_COLOR, STATIC_OBSTACLE_COLOR, TARGET_COLOR,
+                    WALL_COLORS, World)
 
 TARGET_DISC_RADIUS = 0.25
 HIDDEN_Z = -10.0
@@ -60,6 +61,8 @@ class BuiltWorld:
     """(m, 2) half sizes of all obstacles: static ones first, then moving ones"""
     targets: list[tuple[Mover, sapien.Entity]]
     """(mover, disc entity) per candidate target"""
+    pedestrian_bodies: list = field(default_factory=list)
+    """every pedestrian's PhysxRigidDynamicComponent (kinematic upright cylinders), in crowd order"""
 
 
 def material(rgba) -> sapien.render.RenderMaterial:
@@ -79,11 +82,26 @@ def add_box(scene, name, center, half_size, height, color, moving, z=None):
     return b.build_kinematic(name) if moving else b.build_static(name)
 
 
+UPRIGHT = [0.7071068, 0, 0.7071068, 0]
+"""SAPIEN's cylinder axis (x) turned to the world's z"""
+
+
+def add_pedestrian(scene, name: str, radius: float, height: float, position):
+    """A pedestrian: an upright kinematic cylinder standing on the floor at ``position`` (x, y),
+    with a collision shape (the lasers and the robot meet it) and the pedestrians' colour."""
+    b = scene.create_actor_builder()
+    pose = sapien.Pose([0, 0, 0], UPRIGHT)
+    b.add_cylinder_collision(pose, radius=radius, half_length=height / 2)
+    b.add_cylinder_visual(pose, radius=radius, half_length=height / 2, material=material(PEDESTRIAN_COLOR))
+    b.initial_pose = sapien.Pose([float(position[0]), float(position[1]), height / 2])
+    return b.build_kinematic(name)
+
+
 def add_target(scene, name: str, marker: bool, position) -> sapien.Entity:
     """A target: a red disc on the floor and, with ``marker``, the red column standing on it
     (``TargetMarker``); visual only (no collision shape), kinematic, at ``position`` (x, y, z)."""
     b = scene.create_actor_builder()
-    upright = [0.7071068, 0, 0.7071068, 0]  # SAPIEN's cylinder axis x -> world z
+    upright = UPRIGHT
     b.add_cylinder_visual(
         sapien.Pose([0, 0, 0.002], upright),
         radius=TARGET_DISC_RADIUS,
@@ -143,7 +161,16 @@ def build_world(scene, world: World) -> BuiltWorld:
         entity = add_target(scene, f"target{t}", world.target_marker, [*spec.extent()[0], HIDDEN_Z])
         targets.append((spec.mover(), entity))
 
+    # pedestrians: upright cylinders, placed by the crowd at every reset (here: out of the way)
+    pedestrians = []
+    if world.pedestrians is not None:
+        p = world.pedestrians
+        for i in range(p.count):
+            actor = add_pedestrian(scene, f"pedestrian{i}", p.radius, p.height, (arena.center[0], arena.center[1]))
+            pedestrians.append(physx_body(actor))
+
     return BuiltWorld(
+        pedestrian_bodies=pedestrians,
         movers=movers,
         moving_bodies=moving_bodies,
         moving_z=moving_z,

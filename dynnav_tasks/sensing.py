@@ -8,7 +8,10 @@ It gathers the inputs of the step's ``StepSnapshot`` (``snapshot.py``):
   robot (chassis or wheels) and anything else that touches (separation at most
   ``collision_margin``) or that the solver pushed apart (non-zero impulse), or the robot's
   footprint overlapping a wall or an obstacle box at the end of the step;
-* every obstacle box (static ones, then the moving ones at their current centres), for d2.
+* every obstacle box (static ones, then the moving ones at their current centres), for d2;
+* the pedestrians (``set_pedestrians``): their centres and radii, and whether a contact was
+  with one of them (a PhysX contact with a pedestrian's body, or the footprint overlapping
+  its circle at the end of the step): a human collision.
 
 The boxes are kept as Python floats, and what does not change within an episode (walls,
 static boxes, half sizes) is computed once, when the scene is built or its world changes
@@ -27,7 +30,7 @@ import numpy as np
 from .lasers import LaserConfig, LaserRing
 from .maniskill_adapter import sapien_object
 from .robot import FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH, LASER_HEIGHT
-from .snapshot import StepSnapshot, footprint_overlaps, snapshot_of
+from .snapshot import StepSnapshot, footprint_overlaps, footprint_touches_circles, snapshot_of
 
 FOOTPRINT_HALF = (FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH)
 FOOTPRINT_RADIUS = math.hypot(FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH) + 1e-9
@@ -67,6 +70,12 @@ class Sensing:
         links = [sapien_object(link) for link in robot.links]
         self._robot_bodies = frozenset(link for link in links if link.collision_shapes)
         self.set_obstacles(walls, static_xy, obstacle_half)
+        self.set_pedestrians((), ())
+
+    def set_pedestrians(self, bodies, radii) -> None:
+        """The pedestrians' PhysX bodies and radii (m) the next snapshots test against, in crowd order."""
+        self._human_bodies = frozenset(bodies)
+        self._human_radius = _read_only(np.array(radii, dtype=np.float64).reshape(-1))
 
     def set_obstacles(self, walls, static_xy: np.ndarray, obstacle_half: np.ndarray) -> None:
         """The walls and obstacle boxes the next snapshots test against (see the class docstring)."""
@@ -109,15 +118,26 @@ class Sensing:
 
     def in_collision(self) -> bool:
         """Does a PhysX contact of the last step count as a collision of the robot?"""
-        robot, margin = self._robot_bodies, self.collision_margin
+        return self.collisions()[0]
+
+    def collisions(self) -> tuple[bool, bool]:
+        """(a PhysX contact of the last step counts as a collision of the robot, one of them was
+        with a pedestrian)."""
+        robot, humans, margin = self._robot_bodies, self._human_bodies, self.collision_margin
+        hit = False
         for contact in self.px.get_contacts():
             a, b = contact.bodies
             if (a in robot) != (b in robot):  # robot against anything else
                 for p in contact.points:
                     # touching, or the solver had to push them apart during the step
                     if p.separation <= margin or p.impulse.any():
-                        return True
-        return False
+                        if a in humans or b in humans:
+                            return True, True
+                        if not humans:
+                            return True, False
+                        hit = True
+                        break
+        return hit, False
 
     def take(
         self,
@@ -127,9 +147,11 @@ class Sensing:
         contact: Optional[bool],
         previous: Optional[StepSnapshot],
         placed: bool = False,
+        human_xy: Optional[np.ndarray] = None,
     ) -> StepSnapshot:
         """The snapshot of the scene now; ``contact=None``: after a step, from PhysX's contacts
-        and the footprint's overlap; ``placed``: see ``snapshot.snapshot_of``."""
+        and the footprint's overlap; ``placed``: see ``snapshot.snapshot_of``; ``human_xy``: the
+        pedestrians' centres (k, 2), in ``set_pedestrians``'s order."""
         x, y, yaw = pose = self.pose()
         moving = [(*p, *h) for p, h in zip(moving_xy.tolist(), self._moving_half)]
         if self._culled:
@@ -137,8 +159,18 @@ class Sensing:
             fixed, boxes = self._wall_boxes + near, nearest + moving
         else:
             fixed, boxes = self._fixed_boxes, self._static_boxes + moving
-        if contact is None:
+        human = False
+        humans = None
+        if human_xy is not None and len(human_xy):
+            humans = (_read_only(np.array(human_xy, dtype=np.float64).reshape(-1, 2)), self._human_radius)
+        if contact is None and humans is None:
             contact = self.in_collision() or footprint_overlaps(pose, FOOTPRINT_HALF, fixed + moving)
+        elif contact is None:
+            contact, human = self.collisions()
+            if not human:
+                circles = [(cx, cy, r) for (cx, cy), r in zip(humans[0].tolist(), humans[1].tolist())]
+                human = footprint_touches_circles(pose, FOOTPRINT_HALF, circles)
+                contact = contact or human or footprint_overlaps(pose, FOOTPRINT_HALF, fixed + moving)
         if self._still_xy is not None:
             obstacle_xy = self._still_xy
         else:
@@ -155,4 +187,6 @@ class Sensing:
             contact=contact,
             previous=previous,
             placed=placed,
+            humans=humans,
+            human_contact=human,
         )

@@ -23,21 +23,24 @@ field              meaning
 ``obstacle_half``  (n, 2) half sizes of those boxes (walls are not obstacles)
 ``moving_count``   how many of the boxes (the last ones) move
 ``d1``             distance from the robot's centre to the target's centre
-``d2``             distance from the robot's centre to the nearest obstacle box (0 inside
-                   one; ``inf`` in a world without obstacles)
+``d2``             distance from the robot's centre to the nearest obstacle box or
+                   pedestrian's edge (0 inside one; ``inf`` in a world without either)
 ``bearing``        the target's direction seen from the robot, relative to its heading,
                    in [-pi, pi); > 0 when the target is to the left
 ``contact``        the robot touched a wall or an obstacle during the step: a PhysX contact
                    at one of its sub-steps, or its footprint overlapping one at the end
                    (always False after a reset or ``place_robot``: nothing was simulated)
 ``path_length``    metres the robot's centre has travelled since the reset
+``human_xy``       (k, 2) centres of the pedestrians (``world.pedestrians``; (0, 2) without)
+``human_radius``   (k,) their radii
+``human_contact``  the contact (``contact``) was with a pedestrian: a human collision
 =================  ==========================================================================
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -84,6 +87,39 @@ def footprint_overlaps(pose, half, boxes) -> bool:
     return False
 
 
+def footprint_touches_circles(pose, half, circles) -> bool:
+    """Does a rectangle of half sizes ``half`` at ``pose`` (x, y, yaw) overlap any of the
+    ``circles`` (cx, cy, r)? The circle's centre in the rectangle's frame, clamped to it, is the
+    rectangle's nearest point to it."""
+    x, y, yaw = pose
+    a, b = half
+    cos, sin = math.cos(yaw), math.sin(yaw)
+    for cx, cy, r in circles:
+        dx, dy = cx - x, cy - y
+        u, v = dx * cos + dy * sin, dy * cos - dx * sin
+        nu, nv = min(max(u, -a), a), min(max(v, -b), b)
+        if (u - nu) ** 2 + (v - nv) ** 2 < r * r:
+            return True
+    return False
+
+
+def nearest_circle_distance(x: float, y: float, circles) -> float:
+    """The smallest distance from (x, y) to the edge of any of the ``circles`` (cx, cy, r), 0
+    inside one; ``inf`` when there are none."""
+    nearest = math.inf
+    for cx, cy, r in circles:
+        d = max(math.hypot(x - cx, y - cy) - r, 0.0)
+        if d < nearest:
+            nearest = d
+    return nearest
+
+
+NO_HUMANS_XY = np.zeros((0, 2))
+NO_HUMANS_XY.setflags(write=False)
+NO_HUMANS_RADIUS = np.zeros(0)
+NO_HUMANS_RADIUS.setflags(write=False)
+
+
 def _frozen(values, dtype, shape=None) -> np.ndarray:
     array = np.array(values, dtype=dtype)  # a copy: later changes to the source do not leak in
     if shape is not None:
@@ -108,6 +144,9 @@ class StepSnapshot:
     bearing: float
     contact: bool
     path_length: float
+    human_xy: np.ndarray = field(default_factory=lambda: NO_HUMANS_XY)
+    human_radius: np.ndarray = field(default_factory=lambda: NO_HUMANS_RADIUS)
+    human_contact: bool = False
 
     @property
     def robot_xy(self) -> np.ndarray:
@@ -178,6 +217,8 @@ def snapshot_of(
     contact: bool,
     previous: StepSnapshot | None,
     placed: bool = False,
+    humans: tuple[np.ndarray, np.ndarray] | None = None,
+    human_contact: bool = False,
 ) -> StepSnapshot:
     """The one function that makes a ``StepSnapshot``: derives d1, d2, the bearing and the
     path length. ``step`` is an int and ``pose`` a tuple of Python floats; the arrays are
@@ -186,7 +227,9 @@ def snapshot_of(
     (cx, cy, hx, hy) rows of Python floats.
 
     ``placed``: the robot was put where it is (``NavEnv.place_robot``), not driven there, so
-    the path length stays ``previous``'s instead of growing by the distance between them."""
+    the path length stays ``previous``'s instead of growing by the distance between them.
+    ``humans``: (centres (k, 2), radii (k,)) of the pedestrians, read-only arrays (None: none);
+    ``human_contact``: ``contact`` was with one of them."""
     x, y, yaw = pose
     tx, ty = target_xy.tolist()
     path = 0.0
@@ -207,7 +250,15 @@ def snapshot_of(
         bearing=wrap_angle(math.atan2(ty - y, tx - x) - yaw),
         contact=bool(contact),
         path_length=path,
+        human_xy=NO_HUMANS_XY,
+        human_radius=NO_HUMANS_RADIUS,
+        human_contact=bool(human_contact),
     )
+    if humans is not None and len(humans[0]):
+        xy, radius = humans
+        circles = [(cx, cy, r) for (cx, cy), r in zip(xy.tolist(), radius.tolist())]
+        snapshot.__dict__.update(human_xy=xy, human_radius=radius,
+                                 d2=min(snapshot.d2, nearest_circle_distance(x, y, circles)))
     return snapshot
 
 

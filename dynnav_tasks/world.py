@@ -11,9 +11,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Optional
 
 import numpy as np
 
+from .crowd.crowd import Pedestrians
 from .motion import Motion, Static
 
 RGBA = tuple[float, float, float, float]
@@ -23,7 +25,7 @@ RGBA = tuple[float, float, float, float]
 # directions apart, and every colour has its own gray level (ITU-R 601 luma, the one
 # ``wrappers.to_gray`` uses) so gray frames tell them apart too:
 #   target 0.30 < static box 0.43 < west 0.48 < north 0.56 < east 0.63 < south 0.69
-#   < moving box 0.80 < floor 0.88
+#   < pedestrian 0.75 < moving box 0.80 < floor 0.88
 WALL_COLORS: dict[str, RGBA] = {
     "north": (0.20, 0.70, 0.75, 1.0),  # y = y_max: teal
     "south": (0.98, 0.63, 0.24, 1.0),  # y = y_min: orange
@@ -33,6 +35,7 @@ WALL_COLORS: dict[str, RGBA] = {
 STATIC_OBSTACLE_COLOR: RGBA = (0.26, 0.42, 0.90, 1.0)  # blue, as in the thesis
 MOVING_OBSTACLE_COLOR: RGBA = (0.94, 0.84, 0.20, 1.0)  # yellow, as in the thesis
 TARGET_COLOR: RGBA = (1.0, 0.0, 0.0, 1.0)  # red: the disc and, in camera worlds, its marker
+PEDESTRIAN_COLOR: RGBA = (0.95, 0.65, 0.70, 1.0)  # pink
 FLOOR_COLOR: RGBA = (0.88, 0.88, 0.87, 1.0)
 
 
@@ -127,6 +130,9 @@ class World:
     target_marker: bool = False
     """stand a tall red column (visual only, see ``scene.TargetMarker``) on the chosen target, so
     that a camera sees it from anywhere in the arena; the camera worlds set this"""
+    pedestrians: Optional[Pedestrians] = None
+    """a crowd walking in the arena (``crowd.crowd``): upright cylinders the lasers and the camera
+    see, moved each step by their motion model; touching one ends the episode as a human collision"""
 
     def __post_init__(self):
         if not self.targets:

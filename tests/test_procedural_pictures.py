@@ -121,3 +121,20 @@ def test_one_world_tasks_keep_one_picture(make_env):
     assert one_world(episode_worlds(env, [dict(seed=s) for s in range(4)]))
     with pytest.raises(ValueError, match="no test episodes"):
         draw_trajectories(env, [], "unused.png")
+
+
+def test_the_crowd_picture_shows_the_pedestrians_and_crosses_on_their_goals(make_env):
+    """The crowd task's annotated picture: pink bodies, and a plum cross on each pedestrian's goal
+    at the pixel of the goal's floor point."""
+    from dynnav_tasks.viz.pictures import PEDESTRIAN_GOAL, annotated_top_down
+    from dynnav_tasks.world import PEDESTRIAN_COLOR
+
+    env = make_env("DynNav-Crowd-v1", humans=5)
+    env.reset(seed=0)
+    img = np.asarray(annotated_top_down(env))
+    base = env.unwrapped
+    for gx, gy in base.pedestrian_goals.tolist():
+        c, r = (int(round(v)) for v in base.top_down_pixel(gx, gy))
+        assert near(img[r, c], [v / 255 for v in PEDESTRIAN_GOAL]), (gx, gy)
+    pink = np.array([round(255 * v) for v in PEDESTRIAN_COLOR[:3]])
+    assert (np.abs(img.astype(int) - pink).sum(axis=-1) <= 40).sum() > 5 * 200  # five bodies' pixels, at least

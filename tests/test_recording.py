@@ -155,3 +155,20 @@ def test_unwritable_folder_is_a_clear_error():
 def test_folder_instead_of_file(tmp_path):
     with pytest.raises(ValueError, match="is a folder"):
         Recorder(tmp_path)
+
+
+def test_a_crowd_recording_shows_the_pedestrians_and_their_goals(make_env, tmp_path):
+    """Every logged step of DynNav-Crowd-v1 shows its 5 pedestrians as cylinders where the
+    snapshot has them, each with a line to the goal it heads for."""
+    env = make_env("DynNav-Crowd-v1", obs_mode="state")
+    path = tmp_path / "crowd.rrd"
+    with Recorder(path) as recorder:
+        results = record_episodes(env, recorder, episodes=1, seed=3)
+    data = read_back(path)
+    centers = column(data["/world/pedestrians"], "Cylinders3D:centers")
+    goals = column(data["/world/pedestrian_goals"], "LineStrips3D:strips")
+    assert len(centers) == len(goals) == results[0][1] + 1  # the reset and every step
+    assert all(len(c) == 5 for c in centers) and all(len(g) == 5 for g in goals)
+    last = env.unwrapped.snapshot.human_xy
+    assert sorted_rows([c[:2] for c in centers[-1]]) == sorted_rows(last)
+    assert sorted_rows([s[1][:2] for s in goals[-1]]) == sorted_rows(env.unwrapped.pedestrian_goals)

@@ -161,7 +161,7 @@ def run_dwa(task_id: str, seeds, progress: bool = False, label: Optional[str] = 
 @dataclass
 class Args:
     task: str = "DynNav-MovingObstacles-v1"
-    """task to drive in: a study task or a procedural one (which runs its difficulties and splits)"""
+    """task to drive in: a study task, a crowd task or a procedural one (which runs its difficulties and splits)"""
     difficulty: Optional[str] = None
     """with a procedural task: "easy", "medium" or "hard" (default: each)"""
     split: Optional[str] = None
@@ -176,7 +176,7 @@ class Args:
 
 def main(args: Args) -> None:
     """Drive the episodes ``args`` names and print (and with ``--out`` record) the rates."""
-    from dynnav_tasks import PROCEDURAL_TASK_IDS, TASK_IDS
+    from dynnav_tasks import CROWD_TASK_IDS, PROCEDURAL_TASK_IDS, TASK_IDS
     from dynnav_tasks.baselines.cli import run_over_cells, run_over_tasks
 
     if args.task in PROCEDURAL_TASK_IDS:
@@ -187,7 +187,7 @@ def main(args: Args) -> None:
         return
     if args.difficulty or args.split:
         raise SystemExit(f"error: --difficulty and --split apply to a procedural task ({', '.join(PROCEDURAL_TASK_IDS)})")
-    run_over_tasks(args.task, TASK_IDS, "task id", args.episodes, args.first_seed,
+    run_over_tasks(args.task, TASK_IDS + CROWD_TASK_IDS, "task id", args.episodes, args.first_seed,
                    lambda task, seeds: run_dwa(task, seeds, progress=True), out=args.out)
 
 

@@ -78,6 +78,9 @@ class Pedestrians:
     """m: the least gap between two bodies at the start (CrowdNav's discomfort distance)"""
     time_horizon: float = 5.0
     """s: ORCA's horizon (CrowdNav's 5 s)"""
+    see_robot: bool = False
+    """whether the pedestrians avoid the robot (visible) or walk as if it were not there
+    (invisible, CrowdNav's harder setting, where the robot must do all the avoiding)"""
     social_force: social_force.SocialForceParams = field(default_factory=social_force.SocialForceParams)
 
     def __post_init__(self):
@@ -166,7 +169,7 @@ class Crowd:
         """Move every pedestrian one step of ``dt`` s and return the new positions (n, 2). ``robot``:
         ((x, y), (vx, vy), radius) of a robot the crowd sees (None: invisible to it); ``boxes``:
         static boxes and walls (k, 4) as (lo_x, lo_y, hi_x, hi_y), which the social force avoids and
-        ORCA meets as resting neighbours at their nearest points."""
+        ORCA meets as resting neighbours at their nearest points (``orca.orca_velocities``)."""
         s = self.spec
         if s.count == 0:
             return self.positions
@@ -176,12 +179,10 @@ class Crowd:
                                            s.social_force, bodies, boxes)
             self.velocities = social_force.step_velocities(self.velocities, a, self.speeds, dt, s.social_force)
         else:
-            others = [] if robot is None else [(robot[0], robot[1], robot[2], 1.0)]  # the robot does not do its share
-            if boxes is not None and len(boxes):
-                others += _box_neighbours(self.positions, np.asarray(boxes, float))
+            others = () if robot is None else ((robot[0], robot[1], robot[2], 1.0),)  # it does not do its share
             self.velocities = orca.orca_velocities(self.positions, self.velocities, self.radii,
                                                    self.preferred_velocities(dt), self.speeds, dt, s.time_horizon,
-                                                   others=tuple(others))
+                                                   others=others, boxes=boxes)
         self.positions = self.positions + self.velocities * dt
         self._next_goals(rng)
         return self.positions
@@ -196,15 +197,3 @@ class Crowd:
                 self._east[i] = not self._east[i]
                 self.goals[i] = (self._square_goal if s.scenario == "square_crossing"
                                  else self._corridor_goal)(bool(self._east[i]), rng)
-
-
-def _box_neighbours(positions: np.ndarray, boxes: np.ndarray) -> list:
-    """For ORCA: the points of the boxes nearest to each pedestrian (within 2 m), as resting
-    neighbours of radius 0 that every pedestrian avoids alone (each is a point of a box's surface,
-    so avoiding it is right for all of them)."""
-    out = []
-    for p in positions:
-        nearest = np.stack([np.clip(p[0], boxes[:, 0], boxes[:, 2]), np.clip(p[1], boxes[:, 1], boxes[:, 3])], axis=1)
-        near = np.hypot(*(nearest - p).T) < 2.0
-        out += [((float(q[0]), float(q[1])), (0.0, 0.0), 0.0, 1.0) for q in nearest[near]]
-    return out

@@ -10,8 +10,9 @@ already overlapping a neighbour takes the half-plane that separates them within 
 
 ``responsibility`` is the share of the avoidance an agent takes: 0.5 between two ORCA agents,
 1 towards a neighbour that does not avoid (a robot it sees that does not run ORCA, a static
-point). This is RVO2's ``Agent::computeNewVelocity`` without its static-obstacle lines: static
-structure enters as neighbours of zero velocity (``crowd.walls``).
+point). This is RVO2's ``Agent::computeNewVelocity`` without its static-obstacle lines: walls
+and static boxes enter as resting neighbours of radius 0 at each box's point nearest the agent,
+for the boxes within the distance the agent can cover in ``time_horizon`` (plus its radius).
 """
 
 from __future__ import annotations
@@ -37,45 +38,52 @@ def _det(ax: float, ay: float, bx: float, by: float) -> float:
     return ax * by - ay * bx
 
 
+def orca_lines(position, velocity, radius, others_position: np.ndarray, others_velocity: np.ndarray,
+               others_radius, time_horizon: float, dt: float, responsibility) -> tuple[np.ndarray, np.ndarray]:
+    """The ORCA half-planes of m (agent, neighbour) pairs, as RVO2's ``computeNewVelocity`` makes
+    them, in one numpy pass: (points (m, 2), directions (m, 2)). The agents' positions, velocities
+    and radii and the neighbours' are (m, 2) / (m,) arrays or one value for all pairs;
+    responsibility likewise. Apart: the velocity obstacle's cone cut off at ``time_horizon``,
+    projected on its cut-off circle or on a leg; overlapping: the circle of one step ``dt``."""
+    rp = np.asarray(others_position, dtype=np.float64) - np.asarray(position, dtype=np.float64)
+    m = len(rp)
+    rv = np.asarray(velocity, dtype=np.float64) - np.asarray(others_velocity, dtype=np.float64)
+    dist_sq = (rp * rp).sum(1)
+    r = np.broadcast_to(np.asarray(radius, dtype=np.float64) + np.asarray(others_radius, dtype=np.float64), (m,))
+    r_sq = r * r
+    apart = dist_sq > r_sq
+    inv_t = np.where(apart, 1.0 / time_horizon, 1.0 / dt)  # overlapping: separate within one step
+    w = rv - inv_t[:, None] * rp
+    w_sq = (w * w).sum(1)
+    dot1 = (w * rp).sum(1)
+    cut = ~apart | ((dot1 < 0.0) & (dot1 * dot1 > r_sq * w_sq))  # nearest the cut-off circle
+    w_len = np.sqrt(w_sq)
+    degenerate = w_len < EPSILON
+    unit = np.where(degenerate[:, None], [1.0, 0.0], w / np.where(degenerate, 1.0, w_len)[:, None])
+    w_len = np.where(degenerate, 1.0, w_len)
+    cut_dir = np.stack([unit[:, 1], -unit[:, 0]], axis=1)
+    cut_u = ((r * inv_t - w_len)[:, None]) * unit
+    leg = np.sqrt(np.maximum(dist_sq - r_sq, 0.0))
+    left = rp[:, 0] * w[:, 1] - rp[:, 1] * w[:, 0] > 0.0
+    safe = np.where(apart, dist_sq, 1.0)
+    left_dir = np.stack([rp[:, 0] * leg - rp[:, 1] * r, rp[:, 0] * r + rp[:, 1] * leg], axis=1) / safe[:, None]
+    right_dir = -np.stack([rp[:, 0] * leg + rp[:, 1] * r, -rp[:, 0] * r + rp[:, 1] * leg], axis=1) / safe[:, None]
+    leg_dir = np.where(left[:, None], left_dir, right_dir)
+    leg_u = (rv * leg_dir).sum(1)[:, None] * leg_dir - rv
+    direction = np.where(cut[:, None], cut_dir, leg_dir)
+    u = np.where(cut[:, None], cut_u, leg_u)
+    share = np.broadcast_to(np.asarray(responsibility, dtype=np.float64), (m,))
+    return np.asarray(velocity, dtype=np.float64) + share[:, None] * u, direction
+
+
 def orca_line(position, velocity, radius: float, other_position, other_velocity, other_radius: float,
               time_horizon: float, dt: float, responsibility: float = 0.5) -> Line:
     """The ORCA half-plane of the agent at ``position`` with ``velocity`` and ``radius`` towards one
-    neighbour (all in m and m/s), as RVO2 computes it."""
-    rpx, rpy = other_position[0] - position[0], other_position[1] - position[1]
-    rvx, rvy = velocity[0] - other_velocity[0], velocity[1] - other_velocity[1]
-    dist_sq = rpx * rpx + rpy * rpy
-    r = radius + other_radius
-    r_sq = r * r
-    if dist_sq > r_sq:  # no collision yet
-        inv_t = 1.0 / time_horizon
-        wx, wy = rvx - inv_t * rpx, rvy - inv_t * rpy  # from the cut-off circle's centre to the relative velocity
-        w_sq = wx * wx + wy * wy
-        dot1 = wx * rpx + wy * rpy
-        if dot1 < 0.0 and dot1 * dot1 > r_sq * w_sq:  # nearest the cut-off circle
-            w = math.sqrt(w_sq)
-            ux, uy = wx / w, wy / w
-            direction = (uy, -ux)
-            scale = r * inv_t - w
-            u = (scale * ux, scale * uy)
-        else:  # nearest a leg of the cone
-            leg = math.sqrt(dist_sq - r_sq)
-            if _det(rpx, rpy, wx, wy) > 0.0:  # left leg
-                direction = ((rpx * leg - rpy * r) / dist_sq, (rpx * r + rpy * leg) / dist_sq)
-            else:  # right leg
-                direction = (-(rpx * leg + rpy * r) / dist_sq, -(-rpx * r + rpy * leg) / dist_sq)
-            dot2 = rvx * direction[0] + rvy * direction[1]
-            u = (dot2 * direction[0] - rvx, dot2 * direction[1] - rvy)
-    else:  # overlapping: separate within one step
-        inv_dt = 1.0 / dt
-        wx, wy = rvx - inv_dt * rpx, rvy - inv_dt * rpy
-        w = math.hypot(wx, wy)
-        if w < EPSILON:  # same place and velocity: any direction separates them
-            wx, wy, w = 1.0, 0.0, 1.0
-        ux, uy = wx / w, wy / w
-        direction = (uy, -ux)
-        scale = r * inv_dt - w
-        u = (scale * ux, scale * uy)
-    return Line((velocity[0] + responsibility * u[0], velocity[1] + responsibility * u[1]), direction)
+    neighbour (all in m and m/s), as RVO2 computes it (``orca_lines`` for one pair)."""
+    point, direction = orca_lines(position, velocity, radius, np.asarray([other_position], dtype=np.float64),
+                                  np.asarray([other_velocity], dtype=np.float64), other_radius, time_horizon, dt,
+                                  responsibility)
+    return Line(tuple(point[0].tolist()), tuple(direction[0].tolist()))
 
 
 def _program1(lines: list[Line], k: int, radius: float, opt, direction_opt: bool):
@@ -165,20 +173,55 @@ def solve(lines: list[Line], max_speed: float, preferred) -> tuple[float, float]
 
 def orca_velocities(positions: np.ndarray, velocities: np.ndarray, radii: np.ndarray, preferred: np.ndarray,
                     max_speeds: np.ndarray, dt: float, time_horizon: float = 5.0, neighbour_distance: float = 10.0,
-                    max_neighbours: int = 10, others: tuple = ()) -> np.ndarray:
+                    max_neighbours: int = 10, others: tuple = (), boxes: np.ndarray | None = None) -> np.ndarray:
     """The new velocity (n, 2) of each of n ORCA agents (positions, velocities (n, 2); radii,
     max_speeds (n,); preferred velocities (n, 2)). Each avoids its ``max_neighbours`` nearest fellow
-    agents within ``neighbour_distance`` (sharing the avoidance) and every ``others`` entry,
-    (position, velocity, radius, responsibility) tuples: neighbours that are not ORCA agents."""
+    agents within ``neighbour_distance`` (sharing the avoidance), every ``others`` entry,
+    (position, velocity, radius, responsibility) tuples: neighbours that are not ORCA agents, and
+    the ``boxes`` (k, 4) as (lo_x, lo_y, hi_x, hi_y) (module docstring)."""
     n = len(positions)
+    positions, velocities = np.asarray(positions, dtype=np.float64), np.asarray(velocities, dtype=np.float64)
+    radii, max_speeds = np.asarray(radii, dtype=np.float64), np.asarray(max_speeds, dtype=np.float64)
+    # every (agent, neighbour) pair's half-plane in one numpy pass, then each agent's linear program
+    agent, other, share, o_pos, o_vel, o_rad = [], [], [], [], [], []
+    if n > 1:
+        d = np.hypot(*(positions[:, None, :] - positions[None, :, :]).transpose(2, 0, 1))
+        np.fill_diagonal(d, np.inf)
+        order = np.argsort(d, axis=1, kind="stable")[:, :max_neighbours]
+        keep = np.take_along_axis(d, order, axis=1) < neighbour_distance
+        rows, cols = np.nonzero(keep)
+        agent.append(rows)
+        other.append(order[rows, cols])
+        share.append(np.full(len(rows), 0.5))
+    pairs_agent = np.concatenate(agent) if agent else np.zeros(0, int)
+    pairs_other = np.concatenate(other) if other else np.zeros(0, int)
+    points = [positions[pairs_other]]
+    vels, rads, shares = [velocities[pairs_other]], [radii[pairs_other]], [np.concatenate(share) if share else np.zeros(0)]
+    for op, ov, orad, responsibility in others:  # neighbours that are not ORCA agents
+        close = np.flatnonzero(np.hypot(*(positions - np.asarray(op, dtype=np.float64)).T) < neighbour_distance)
+        pairs_agent = np.concatenate([pairs_agent, close])
+        points.append(np.tile(np.asarray(op, dtype=np.float64), (len(close), 1)))
+        vels.append(np.tile(np.asarray(ov, dtype=np.float64), (len(close), 1)))
+        rads.append(np.full(len(close), float(orad)))
+        shares.append(np.full(len(close), float(responsibility)))
+    if boxes is not None and len(boxes):
+        boxes = np.asarray(boxes, dtype=np.float64)
+        nearest = np.stack([np.clip(positions[:, None, 0], boxes[None, :, 0], boxes[None, :, 2]),
+                            np.clip(positions[:, None, 1], boxes[None, :, 1], boxes[None, :, 3])], axis=-1)  # (n, k, 2)
+        reach = time_horizon * max_speeds + radii
+        rows, cols = np.nonzero(np.hypot(*(nearest - positions[:, None, :]).transpose(2, 0, 1)) < reach[:, None])
+        pairs_agent = np.concatenate([pairs_agent, rows])
+        points.append(nearest[rows, cols])
+        vels.append(np.zeros((len(rows), 2)))
+        rads.append(np.zeros(len(rows)))
+        shares.append(np.ones(len(rows)))
+    point, direction = orca_lines(positions[pairs_agent], velocities[pairs_agent], radii[pairs_agent],
+                                  np.concatenate(points), np.concatenate(vels), np.concatenate(rads), time_horizon, dt,
+                                  np.concatenate(shares))
+    lines: list[list[Line]] = [[] for _ in range(n)]
+    for i, p, q in zip(pairs_agent.tolist(), point.tolist(), direction.tolist()):
+        lines[i].append(Line(tuple(p), tuple(q)))
     out = np.zeros((n, 2))
     for i in range(n):
-        p, v = positions[i], velocities[i]
-        d = np.hypot(*(positions - p).T)
-        d[i] = np.inf
-        near = [j for j in np.argsort(d, kind="stable")[:max_neighbours] if d[j] < neighbour_distance]
-        lines = [orca_line(p, v, radii[i], positions[j], velocities[j], radii[j], time_horizon, dt) for j in near]
-        lines += [orca_line(p, v, radii[i], op, ov, orad, time_horizon, dt, share) for op, ov, orad, share in others
-                  if math.hypot(op[0] - p[0], op[1] - p[1]) < neighbour_distance]
-        out[i] = solve(lines, float(max_speeds[i]), (float(preferred[i][0]), float(preferred[i][1])))
+        out[i] = solve(lines[i], float(max_speeds[i]), (float(preferred[i][0]), float(preferred[i][1])))
     return out

@@ -11,6 +11,7 @@ from .visual_static_target import VisualStaticTargetEnv  # 5.5a
 from .visual_targets import VisualTargetsEnv  # 5.5b
 from .visual_moving_targets import VisualMovingTargetsEnv  # 5.5c
 from .procedural import ProceduralEnv  # generated worlds (issue 61)
+from .crowd import CrowdEnv  # pedestrians
 
 __all__ = [
     "OneObstacleEnv", "MovingTargetEnv", "MovingObstaclesEnv", "MotionAreasEnv", "MotionAreasRouteEnv",

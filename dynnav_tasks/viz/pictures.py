@@ -12,6 +12,9 @@ generated arenas), a white square and a dark red ring of a readable size mark th
 enlarged) every 4 steps while ``camera_pilot.CameraPilot``, which reads only these frames,
 drives to the target.
 
+``DynNav-Crowd-v1-<scenario>.png``: the crowd task's scenarios after a few steps, each
+pedestrian (pink) with a line to the goal it heads for and a cross on that goal (plum).
+
 ``procedural-<difficulty>-<split>-<world seed>.png``: the sample worlds of
 ``DynNav-Procedural-v1`` listed in ``SAMPLE_WORLDS``, annotated the same way and cropped to
 the arena (``sample_world_picture``).
@@ -35,6 +38,10 @@ from dynnav_tasks.scene import TARGET_DISC_RADIUS
 TARGET_PATH = (120, 0, 0)
 OBSTACLE_PATH = (255, 140, 0)
 START_AREA = (255, 255, 255)
+PEDESTRIAN_GOAL = (150, 40, 110)
+CROWD_TASK = "DynNav-Crowd-v1"
+CROWD_STEPS = 8
+"""steps of the crowd pictures' episode before the picture (the pedestrians under way)"""
 MARK_MIN_PX = 20
 """least width (pixels of the 512-pixel top-down picture) of the start area's square and the
 target's ring: smaller ones are drawn this wide"""
@@ -61,8 +68,8 @@ class Args:
     """folder to write <task>.png into"""
     seed: int = 0
     """reset seed of the pictured episode (the study's worlds)"""
-    worlds: Literal["all", "tasks", "procedural"] = "all"
-    """which pictures: the study's tasks, the procedural sample worlds, or both"""
+    worlds: Literal["all", "tasks", "procedural", "crowd"] = "all"
+    """which pictures: the study's tasks, the procedural sample worlds, the crowd's scenarios, or all"""
 
 
 def _motion_lines(motion) -> list[np.ndarray]:
@@ -118,6 +125,11 @@ def annotated_top_down(env) -> Image.Image:
             pts = [px(*p) for p in line]
             for a, b in zip(pts[:-1], pts[1:]):
                 _arrow(draw, a, b, OBSTACLE_PATH, 3)
+    for (hx, hy), (gx, gy) in zip(base.snapshot.human_xy.tolist(), base.pedestrian_goals.tolist()):
+        draw.line([px(hx, hy), px(gx, gy)], fill=PEDESTRIAN_GOAL, width=2)
+        (c, r) = px(gx, gy)
+        draw.line([(c - 6, r - 6), (c + 6, r + 6)], fill=PEDESTRIAN_GOAL, width=3)
+        draw.line([(c - 6, r + 6), (c + 6, r - 6)], fill=PEDESTRIAN_GOAL, width=3)
     s = base.world.start
     (c0, r0), (c1, r1) = px(s.x_range[0], s.y_range[1]), px(s.x_range[1], s.y_range[0])
     draw.rectangle(_at_least([c0, r0, c1, r1], MARK_MIN_PX), outline=START_AREA, width=2)
@@ -185,6 +197,21 @@ def write_sample_worlds(out: Path, samples: dict = SAMPLE_WORLDS, size: int = SA
     return paths
 
 
+def crowd_picture(scenario: str, seed: int = 0, humans: int = 10) -> Image.Image:
+    """The annotated top-down picture of the crowd task's ``scenario`` with ``humans`` pedestrians,
+    ``CROWD_STEPS`` steps into episode ``seed`` (the robot turning in place), cropped to the arena."""
+    import dynnav_tasks
+
+    env = dynnav_tasks.NumpyWrapper(dynnav_tasks.make(CROWD_TASK, scenario=scenario, humans=humans))
+    try:
+        env.reset(seed=seed)
+        for _ in range(CROWD_STEPS):
+            env.step(1)
+        return crop_to_arena(env, annotated_top_down(env))
+    finally:
+        env.close()
+
+
 def save_png(img: Image.Image, path: Path) -> None:
     """Write ``img`` to ``path`` as an optimised PNG, atomically (a temporary file beside it,
     renamed over it)."""
@@ -230,6 +257,15 @@ def main(args: Args) -> None:
     import dynnav_tasks
 
     args.out.mkdir(parents=True, exist_ok=True)
+    if args.worlds in ("all", "crowd"):
+        from dynnav_tasks.crowd.crowd import SCENARIOS
+
+        for scenario in SCENARIOS:
+            path = args.out / f"{CROWD_TASK}-{scenario}.png"
+            save_png(crowd_picture(scenario, args.seed), path)
+            print(f"wrote {path}")
+    if args.worlds == "crowd":
+        return
     if args.worlds in ("all", "procedural"):
         for path in write_sample_worlds(args.out):
             print(f"wrote {path}")

@@ -51,7 +51,8 @@ import rerun.blueprint as rrb
 from dynnav_tasks.outcomes import outcome_of
 from dynnav_tasks.robot import CAMERA_OFFSET, FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH, LASER_HEIGHT
 from dynnav_tasks.scene import TARGET_DISC_RADIUS
-from dynnav_tasks.world import MOVING_OBSTACLE_COLOR, STATIC_OBSTACLE_COLOR, TARGET_COLOR, WALL_COLORS, World
+from dynnav_tasks.world import (MOVING_OBSTACLE_COLOR, PEDESTRIAN_COLOR, STATIC_OBSTACLE_COLOR, TARGET_COLOR, WALL_COLORS,
+                                 World)
 
 MOVING_BOX_HALF_HEIGHT = 0.25
 """half the height (m) of a moving box as drawn (``world.Obstacles.height`` is 0.5 m)"""
@@ -245,6 +246,17 @@ class Recorder:
                 centers=[[c[0], c[1], MOVING_BOX_HALF_HEIGHT] for c in centers],
                 half_sizes=[[h[0], h[1], MOVING_BOX_HALF_HEIGHT] for h in half],
                 colors=[_rgb255(MOVING_OBSTACLE_COLOR)], fill_mode="solid",
+            ))
+        if len(snap.human_xy):  # the pedestrians, and a line to the goal each heads for
+            goals = base.pedestrian_goals
+            height = base.world.pedestrians.height
+            rec.log("world/pedestrians", rr.Cylinders3D(
+                centers=[[p[0], p[1], height / 2] for p in snap.human_xy.tolist()], lengths=[height],
+                radii=snap.human_radius.tolist(), colors=[_rgb255(PEDESTRIAN_COLOR)], fill_mode="solid",
+            ))
+            rec.log("world/pedestrian_goals", rr.LineStrips3D(
+                [[[p[0], p[1], 0.01], [g[0], g[1], 0.01]] for p, g in zip(snap.human_xy.tolist(), goals.tolist())],
+                colors=[_rgb255(PEDESTRIAN_COLOR)], radii=0.01,
             ))
         tx, ty = (float(v) for v in snap.target_xy)
         rec.log("world/target", rr.Cylinders3D(
