@@ -3,7 +3,8 @@ JSON file of their success rates (``--out``) that ``agents.study.report`` reads.
 
 ``run_over_tasks`` runs the study's fixed worlds (one entry per task id); ``run_over_cells``
 runs a procedural task over its difficulties and splits (one entry per controller, difficulty
-and split, e.g. ``state_planner/medium/test``, with SPL and the number of worlds played)."""
+and split, e.g. ``state_planner/medium/test``, with SPL and the number of worlds played);
+``drive_controller`` picks between them for a controller's command line (``ControllerArgs``)."""
 
 from __future__ import annotations
 
@@ -12,7 +13,41 @@ import json
 import os
 import tempfile
 from contextlib import contextmanager
+from dataclasses import dataclass
 from typing import Callable, Optional, Sequence
+
+
+@dataclass
+class ControllerArgs:
+    """The options of a scripted controller's command line beside its ``task``."""
+
+    difficulty: Optional[str] = None
+    """with a procedural task: "easy", "medium" or "hard" (default: each)"""
+    split: Optional[str] = None
+    """with a procedural task: "train", "test" or "ood" (default: each)"""
+    episodes: int = 200
+    """episodes per task, difficulty and split (seeds first_seed .. first_seed + episodes - 1)"""
+    first_seed: int = 0
+    """seed of the first episode"""
+    out: Optional[str] = None
+    """also merge the rates into this JSON file, e.g. docs/results/procedural_ceilings.json"""
+
+
+def drive_controller(args, run: Callable, controller: str, fixed_tasks: Sequence[str]) -> None:
+    """Drive the episodes ``args`` (a ``ControllerArgs`` with a ``task``) names and print (and with
+    ``--out`` record) the rates: a procedural task over its cells, else one of ``fixed_tasks``.
+    ``run(task_id, seeds, label, task_kwargs)`` plays the episodes with the controller."""
+    from dynnav_tasks import PROCEDURAL_TASK_IDS
+
+    if args.task in PROCEDURAL_TASK_IDS:
+        run_over_cells(args.task, args.difficulty, args.split, args.episodes, args.first_seed,
+                       lambda d, s, seeds: run(args.task, seeds, f"{args.task} {d} {s}", dict(difficulty=d, split=s)),
+                       controller=controller, out=args.out)
+        return
+    if args.difficulty or args.split:
+        raise SystemExit(f"error: --difficulty and --split apply to a procedural task ({', '.join(PROCEDURAL_TASK_IDS)})")
+    run_over_tasks(args.task, fixed_tasks, "task id", args.episodes, args.first_seed,
+                   lambda task, seeds: run(task, seeds, None, None), out=args.out)
 
 
 def outcome_rates(outcomes: Sequence[str], first_seed: int) -> dict:

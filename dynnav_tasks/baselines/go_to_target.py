@@ -15,6 +15,7 @@ from typing import Optional
 
 import tyro
 
+from dynnav_tasks.baselines.cli import ControllerArgs, drive_controller
 from dynnav_tasks.baselines.episodes import EpisodeResults, run_episodes
 
 FORWARD, LEFT, RIGHT = 0, 1, 2
@@ -45,36 +46,18 @@ def run_go_to_target(task_id: str, seeds, progress: bool = False, label: Optiona
 
 
 @dataclass
-class Args:
+class Args(ControllerArgs):
     task: str = "DynNav-Procedural-v1"
     """task to drive in: a study task or a procedural one (which runs its difficulties and splits)"""
-    difficulty: Optional[str] = None
-    """with a procedural task: "easy", "medium" or "hard" (default: each)"""
-    split: Optional[str] = None
-    """with a procedural task: "train", "test" or "ood" (default: each)"""
-    episodes: int = 200
-    """episodes per task, difficulty and split (seeds first_seed .. first_seed + episodes - 1)"""
-    first_seed: int = 0
-    """seed of the first episode"""
-    out: Optional[str] = None
-    """also merge the rates into this JSON file, e.g. docs/results/procedural_ceilings.json"""
 
 
 def main(args: Args) -> None:
     """Drive the episodes ``args`` names and print (and with ``--out`` record) the rates."""
-    from dynnav_tasks import PROCEDURAL_TASK_IDS, TASK_IDS
-    from dynnav_tasks.baselines.cli import run_over_cells, run_over_tasks
+    from dynnav_tasks import TASK_IDS
 
-    if args.task in PROCEDURAL_TASK_IDS:
-        run_over_cells(args.task, args.difficulty, args.split, args.episodes, args.first_seed,
-                       lambda d, s, seeds: run_go_to_target(args.task, seeds, progress=True, label=f"{args.task} {d} {s}",
-                                                            task_kwargs=dict(difficulty=d, split=s)),
-                       controller="go_to_target", out=args.out)
-        return
-    if args.difficulty or args.split:
-        raise SystemExit(f"error: --difficulty and --split apply to a procedural task ({', '.join(PROCEDURAL_TASK_IDS)})")
-    run_over_tasks(args.task, TASK_IDS, "task id", args.episodes, args.first_seed,
-                   lambda task, seeds: run_go_to_target(task, seeds, progress=True), out=args.out)
+    drive_controller(args, lambda task, seeds, label, kwargs: run_go_to_target(task, seeds, progress=True, label=label,
+                                                                 task_kwargs=kwargs),
+                     "go_to_target", TASK_IDS)
 
 
 if __name__ == "__main__":
