@@ -201,6 +201,25 @@ def test_test_phase_reports_and_writes_results(tmp_path):
     assert "epsilon 1" in (out / "eval.md").read_text()
 
 
+def test_a_crowd_tests_report_gives_its_social_metrics(tmp_path):
+    """A navigator tested among pedestrians: each episode's social metrics in eval.json, their
+    aggregate in the summary (discomfort pooled over the steps) and as rows of eval.md."""
+    run = train(small(tmp_path, task="DynNav-Crowd-v1", episodes=2, task_kwargs={"humans": 5}))
+    summary = evaluate(run, episodes=4, picture=False, verbose=False)
+    episodes = json.loads((run / "eval.json").read_text())["episodes"]
+    social = summary["social"]
+    pooled = sum(e["discomfort_frequency"] * e["steps"] for e in episodes) / sum(e["steps"] for e in episodes)
+    assert social["discomfort_frequency"] == pytest.approx(pooled, abs=1e-4)
+    assert social["human_collision_rate"] == pytest.approx(np.mean([e["human_collision"] for e in episodes]))
+    assert all(e["human_collision"] <= (e["outcome"] == "collision") for e in episodes)
+    assert social["min_human_distance"] == pytest.approx(np.mean([e["min_human_distance"] for e in episodes]), abs=1e-4)
+    report = (run / "eval.md").read_text()
+    assert "discomfort frequency (a human within 0.2 m)" in report and "human collision rate" in report
+    # a task without pedestrians keeps its report as it was
+    plain = evaluate(train(small(tmp_path / "plain", episodes=1)), episodes=2, picture=False, verbose=False)
+    assert "social" not in plain
+
+
 class Corridor(gym.Env):
     """Walk right along 5 cells; the last cell terminates (if ``goal``), else only time runs out."""
 

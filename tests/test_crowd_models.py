@@ -101,6 +101,28 @@ def test_the_social_metrics_of_a_scripted_episode_are_those_worked_out_by_hand()
     assert math.isnan(r["time_to_goal"]) and math.isnan(r["jerk"]) and r["min_human_distance"] == math.inf
 
 
+def test_many_episodes_pool_their_steps_as_crowdnav_does():
+    """Two episodes: 10 steps with discomfort 0.5, then 30 steps with 0.1, so 5 + 3 = 8 of 40
+    steps: 0.2 (not the episodes' mean, 0.3). The second ended on a human; only the first
+    reached the goal (its time alone is the time to goal); the minimum distance is the mean of
+    the minima, and a jerk an episode lacks (too short) is left out."""
+    from dynnav_tasks.crowd.metrics import AGGREGATE_METRICS, aggregate
+
+    episodes = [dict(steps=10, human_collision=False, min_human_distance=0.1, personal_space_compliance=0.6,
+                     discomfort_frequency=0.5, time_to_goal=2.0, path_length=4.0, path_irregularity=0.2, jerk=None),
+                dict(steps=30, human_collision=True, min_human_distance=-0.05, personal_space_compliance=0.8,
+                     discomfort_frequency=0.1, time_to_goal=None, path_length=2.0, path_irregularity=0.4, jerk=3.0)]
+    a = aggregate(episodes)
+    assert list(a) == list(AGGREGATE_METRICS)
+    assert a["discomfort_frequency"] == pytest.approx(0.2)
+    assert a["personal_space_compliance"] == pytest.approx((6 + 24) / 40)
+    assert a["human_collision_rate"] == 0.5 and a["time_to_goal"] == 2.0 and a["jerk"] == 3.0
+    assert a["min_human_distance"] == pytest.approx(0.025) and a["path_length"] == 3.0
+    assert a["path_irregularity"] == pytest.approx(0.3)
+    with pytest.raises(ValueError, match="no episodes"):
+        aggregate([])
+
+
 @pytest.mark.parametrize("scenario", ["circle_crossing", "square_crossing", "corridor"])
 @pytest.mark.parametrize("model", ["orca", "social_force"])
 def test_a_crowd_starts_spaced_walks_to_its_goals_and_takes_new_ones(scenario, model):

@@ -161,3 +161,22 @@ def test_a_crowd_robot_turns_a_velocity_into_the_drives_command():
     np.testing.assert_allclose(robot.command(0.6 * np.cos(angle), 0.6 * np.sin(angle), 0.0),
                                [0.6 * np.cos(angle), angle / 0.2], rtol=1e-6)
     np.testing.assert_allclose(robot.command(-0.5, -0.1, 0.0), [0.0, -5.236], rtol=1e-6)
+
+
+def test_a_crowd_baselines_results_file_holds_its_social_metrics(tmp_path):
+    """``crowd_robot --out`` records each run under the controller and the task's options, with
+    the social metrics of its episodes; a task option the task lacks is refused before anything
+    is written."""
+    import json
+
+    from dynnav_tasks.baselines.crowd_robot import Args, main, run_crowd_robot
+
+    out = tmp_path / "crowd.json"
+    main(Args(model="social_force", episodes=2, options="humans=3", out=str(out)))
+    entry = json.loads(out.read_text())["social_force_robot/DynNav-Crowd-v1 [humans=3]"]
+    again = run_crowd_robot("DynNav-Crowd-v1", range(2), "social_force", task_kwargs=dict(humans=3))
+    assert entry["success"] == again.rate() and entry["social"] == again.social()
+    assert set(entry["social"]) >= {"discomfort_frequency", "human_collision_rate", "min_human_distance"}
+    with pytest.raises(SystemExit, match="DynNav-Crowd-v1 has no option 'humanz'"):
+        main(Args(episodes=1, options="humanz=3", out=str(tmp_path / "no.json")))
+    assert not (tmp_path / "no.json").exists()

@@ -231,6 +231,40 @@ def test_a_file_that_is_not_a_table_is_refused(tmp_path):
     assert read_table(tmp_path / "empty") == []
 
 
+def test_a_table_written_before_the_social_columns_reads_with_them_empty(tmp_path):
+    """The committed results table predates the social metrics: its rows read back (those
+    columns None) and the next write keeps them and adds the columns."""
+    from agents.study.table import encode
+
+    run = make_run(tmp_path / "runs")
+    rows, episodes = read_run(run, commit="abc")
+    old = dict(list(RUN_COLUMNS.items())[:list(RUN_COLUMNS).index("human_collision_rate")])  # the columns before
+    table = tmp_path / "table"
+    table.mkdir()
+    (table / RUNS).write_bytes(encode([{c: r[c] for c in old} for r in rows], old))
+    (table / EPISODES).write_bytes(encode(episodes, EPISODE_COLUMNS))
+    (back,) = read_table(table)
+    assert back["success_rate"] == 0.5 and back["discomfort_frequency"] is None and back["jerk"] is None
+    other = make_run(tmp_path / "more", name="other")
+    add_runs(table, [other])
+    header = gzip.decompress((table / RUNS).read_bytes()).decode().splitlines()[0]
+    assert header.split(",") == list(RUN_COLUMNS) and len(read_table(table)) == 2
+
+
+def test_a_crowd_tests_social_metrics_are_columns_of_its_row(tmp_path):
+    run = make_run(tmp_path)
+    ev = json.loads((run / "eval.json").read_text())
+    ev["summary"]["social"] = dict(human_collision_rate=0.25, min_human_distance=0.31, personal_space_compliance=0.9,
+                                   discomfort_frequency=0.04, time_to_goal=9.5, path_length=8.2,
+                                   path_irregularity=0.12, jerk=4.0)
+    (run / "eval.json").write_text(json.dumps(ev))
+    (row,) = read_run(run)[0]
+    assert (row["human_collision_rate"], row["discomfort_frequency"], row["time_to_goal"]) == (0.25, 0.04, 9.5)
+    assert (row["min_human_distance"], row["personal_space_compliance"], row["jerk"]) == (0.31, 0.9, 4.0)
+    add_runs(tmp_path / "table", [run])
+    assert read_table(tmp_path / "table")[0]["discomfort_frequency"] == 0.04
+
+
 def test_the_command_line_adds_runs_under_a_name_and_shows_them(tmp_path, capsys):
     runs = [make_run(tmp_path / f"seed{s}", name="mine", seed=s) for s in (1, 2)]
     table = str(tmp_path / "table")

@@ -40,6 +40,7 @@ import numpy as np
 import yaml
 
 from agents.training.plots import moving_average
+from dynnav_tasks.crowd.metrics import AGGREGATE_METRICS
 
 WINDOW = 100
 """training episodes per moving window of the convergence episode"""
@@ -177,6 +178,11 @@ def _read_test(path: Path) -> tuple[str, dict, list[dict]]:
     return str(ev.get("tested_on", "")), ev["summary"], ev["episodes"]
 
 
+def social_columns(social: dict | None) -> dict:
+    """A test's social metrics (its summary's ``social``) as the table's columns (empty without pedestrians)."""
+    return {k: None if not social else social.get(k) for k in AGGREGATE_METRICS if k != "path_length"}
+
+
 def read_run(run_dir: str | Path, experiment: str | None = None, commit: str | None = None) -> tuple[list[dict], list[dict]]:
     """(run rows, test-episode rows) of a finished run directory: one row for its test phase and one
     per test in tests/*/; ``experiment`` defaults to the sweep's name for it (sweep_run.json), else
@@ -219,7 +225,8 @@ def read_run(run_dir: str | Path, experiment: str | None = None, commit: str | N
         rows.append(dict(key, **training, test_episodes=int(summary["episodes"]),
                          success_rate=summary["success_rate"], collision_rate=summary["collision_rate"],
                          timeout_rate=summary["timeout_rate"], avg_steps_success=summary["avg_steps_success"],
-                         spl=summary.get("spl"), avg_return=summary.get("avg_return")))
+                         spl=summary.get("spl"), avg_return=summary.get("avg_return"),
+                         **social_columns(summary.get("social"))))
         episode_rows += [dict(key, episode=i, episode_seed=e.get("seed"), outcome=e["outcome"], steps=e["steps"],
                               episode_return=e.get("ret"), spl=e.get("spl"), world_seed=e.get("world_seed"),
                               arena_side=e.get("arena_side"), moving_obstacles=e.get("moving_obstacles"))

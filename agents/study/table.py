@@ -35,7 +35,17 @@ curve_block          training episodes per block of the curves below
 curve_return         per block: mean return of the training episodes, space-separated
 curve_loss           per block: mean Q-loss (nan before learning starts)
 curve_success        per block: share of training episodes that reached the target
+human_collision_rate in a task with pedestrians (else empty), the test's social metrics
+min_human_distance   (``dynnav_tasks.crowd.metrics.aggregate``): the share of episodes ended by
+personal_space_...   a human's contact, the mean minimum distance to a human (m), personal-space
+discomfort_frequency compliance and discomfort frequency (over all steps), time to goal (s,
+time_to_goal         successes), path irregularity (rad/m) and jerk (m/s^3)
+path_irregularity
+jerk
 ==================== ==========================================================================
+
+A table written before the social columns existed reads with them empty (its header is the
+first columns of today's); the next write adds them.
 
 ``episodes.csv.gz``, one row per test episode, keyed by the run's key and ``episode``: the
 episode's index in the test phase, ``episode_seed`` (a reset of the task with it draws the same
@@ -73,7 +83,9 @@ RUN_COLUMNS = {
     "success_rate": float, "collision_rate": float, "timeout_rate": float, "avg_steps_success": float,
     "spl": float, "avg_return": float, "converge_episode": int, "wall_clock_s": float, "train_s": float,
     "eval_s": float, "episodes_planned": int, "episodes_done": int, "curve_block": int, "curve_return": str,
-    "curve_loss": str, "curve_success": str}
+    "curve_loss": str, "curve_success": str,
+    "human_collision_rate": float, "min_human_distance": float, "personal_space_compliance": float,
+    "discomfort_frequency": float, "time_to_goal": float, "path_irregularity": float, "jerk": float}
 """column -> type of runs.csv.gz, in file order (an empty cell is None)"""
 EPISODE_COLUMNS = {"experiment": str, "config_hash": str, "seed": int, "tested_on": str, "episode": int,
                    "episode_seed": int, "outcome": str, "steps": int, "episode_return": float, "spl": float,
@@ -114,9 +126,11 @@ def decode(data: bytes, columns: dict, source: str) -> list[dict]:
         lines = gzip.decompress(data).decode().splitlines()
         reader = csv.reader(lines)
         header = next(reader, None)
-        if header != list(columns):
+        if not header or header != list(columns)[:len(header)] or not set(KEY) <= set(header):
             raise ValueError(f"columns {header} are not {list(columns)}")
-        return [{c: _parse(v, columns[c]) for c, v in zip(columns, row, strict=True)} for row in reader]
+        missing = dict.fromkeys(list(columns)[len(header):])  # columns added since it was written
+        return [dict({c: _parse(v, columns[c]) for c, v in zip(header, row, strict=True)}, **missing)
+                for row in reader]
     except (OSError, EOFError, UnicodeDecodeError, ValueError) as err:
         raise ValueError(f"{source} is not a run table of agents.study.table ({err})") from err
 

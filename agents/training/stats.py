@@ -15,6 +15,7 @@ import math
 
 import numpy as np
 
+from dynnav_tasks.crowd.metrics import aggregate as aggregate_social
 from dynnav_tasks.outcomes import OUTCOMES
 
 
@@ -37,7 +38,8 @@ def spl(success: bool, shortest: float, driven: float) -> float:
 def summarize(records: list[dict], epsilon: float = 0.0) -> dict:
     """The test phase's summary of its episode records (each with ``outcome``, ``steps``, ``ret``
     and, for dynnav tasks, ``spl``): the rate of each outcome, the success rate's Wilson interval,
-    the average steps of successes, the average return and the SPL."""
+    the average steps of successes, the average return, the SPL and, in a task with pedestrians,
+    ``social``: their social metrics over the episodes (``dynnav_tasks.crowd.metrics.aggregate``)."""
     n = len(records)
     count = {k: sum(r["outcome"] == k for r in records) for k in OUTCOMES}
     lo, hi = wilson_interval(count["success"], n)
@@ -55,4 +57,6 @@ def summarize(records: list[dict], epsilon: float = 0.0) -> dict:
     )
     if records and "spl" in records[0]:
         summary["spl"] = round(float(np.mean([r["spl"] for r in records])), 4)
+    if records and "discomfort_frequency" in records[0]:  # a task with pedestrians
+        summary["social"] = aggregate_social(records)
     return summary

@@ -33,6 +33,7 @@ from agents.training.run_lock import RunDirLock
 from agents.training.stats import spl, summarize
 from agents.training.test_report import draw_trajectories, write_results
 from agents.training.threads import limit_threads
+from dynnav_tasks.crowd.metrics import episode_social
 from dynnav_tasks.task_options import options_name, parse_task_options
 
 
@@ -76,6 +77,9 @@ def run_episodes(policy: Policy, episodes: int, seed: int, recorder=None, latent
             record.update(path_length=round(driven, 4), shortest_path=round(shortest, 4),
                           spl=spl(episode.outcome == "success", shortest, driven),
                           target_start=start["target"].tolist(), trajectory=path)
+            social = episode_social(episode.info)
+            if social is not None:  # a task with pedestrians: the episode's social metrics
+                record.update({k: v for k, v in social.items() if k not in record})
         records.append(record)
     return records
 

@@ -35,10 +35,32 @@ def markdown_table(task: str, summary: dict) -> str:
         rows = [r for r in rows if not r[0].startswith("ended otherwise")]
     if "spl" in summary:
         rows.append(("SPL", f"{summary['spl']:.3f}"))
+    rows += social_rows(summary.get("social"))
     width = max(len(r[0]) for r in rows)
     lines = [f"| {'metric':<{width}} | value |", f"|{'-' * (width + 2)}|-------|"]
     lines += [f"| {name:<{width}} | {value} |" for name, value in rows]
     return "\n".join(lines) + "\n"
+
+
+SOCIAL_LABELS = {
+    "human_collision_rate": ("human collision rate", "{:.0%}"),
+    "min_human_distance": ("minimum distance to a human (m, mean)", "{:.2f}"),
+    "personal_space_compliance": ("personal-space compliance (no human within 0.45 m)", "{:.3f}"),
+    "discomfort_frequency": ("discomfort frequency (a human within 0.2 m)", "{:.3f}"),
+    "time_to_goal": ("time to goal (s, successful episodes)", "{:.1f}"),
+    "path_irregularity": ("path irregularity (rad/m)", "{:.3f}"),
+    "jerk": ("jerk (m/s^3)", "{:.1f}"),
+}
+"""the social metrics' rows of the table: label and format (``dynnav_tasks.crowd.metrics`` defines them)"""
+
+
+def social_rows(social: dict | None) -> list[tuple[str, str]]:
+    """The table rows of a summary's social metrics (none without pedestrians; "-" for a metric
+    no episode had, e.g. the time to goal without a success)."""
+    if not social:
+        return []
+    return [(label, "-" if social.get(key) is None else fmt.format(social[key]))
+            for key, (label, fmt) in SOCIAL_LABELS.items()]
 
 
 GRID_EPISODES = 12

@@ -11,6 +11,7 @@ from __future__ import annotations
 import fcntl
 import json
 import os
+import re
 import tempfile
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -29,6 +30,8 @@ class ControllerArgs:
     """episodes per task, difficulty and split (seeds first_seed .. first_seed + episodes - 1)"""
     first_seed: int = 0
     """seed of the first episode"""
+    options: Optional[str] = None
+    """with a task that is not procedural: its options, key=value,... (e.g. humans=10,model=social_force)"""
     out: Optional[str] = None
     """also merge the rates into this JSON file, e.g. docs/results/procedural_ceilings.json"""
 
@@ -40,14 +43,34 @@ def drive_controller(args, run: Callable, controller: str, fixed_tasks: Sequence
     from dynnav_tasks import PROCEDURAL_TASK_IDS
 
     if args.task in PROCEDURAL_TASK_IDS:
+        if args.options:
+            raise SystemExit("error: --options applies to a task that is not procedural; a procedural one takes "
+                             "--difficulty and --split")
         run_over_cells(args.task, args.difficulty, args.split, args.episodes, args.first_seed,
                        lambda d, s, seeds: run(args.task, seeds, f"{args.task} {d} {s}", dict(difficulty=d, split=s)),
                        controller=controller, out=args.out)
         return
     if args.difficulty or args.split:
         raise SystemExit(f"error: --difficulty and --split apply to a procedural task ({', '.join(PROCEDURAL_TASK_IDS)})")
-    run_over_tasks(args.task, fixed_tasks, "task id", args.episodes, args.first_seed,
-                   lambda task, seeds: run(task, seeds, None, None), out=args.out)
+    from dynnav_tasks.task_options import parse_task_options
+
+    try:
+        options = parse_task_options(args.options) if args.options else {}
+    except ValueError as err:
+        raise SystemExit(f"error: --options: {err}")
+
+    def run_task(task: str, seeds):
+        try:
+            return run(task, seeds, None, options or None)
+        except TypeError as err:  # the task refused an option (before any episode ran)
+            unknown = re.search(r"unexpected keyword argument '(\w+)'", str(err))
+            if unknown is None:
+                raise
+            raise SystemExit(f"error: --options: {task} has no option {unknown.group(1)!r}; its docstring lists "
+                             "the options it takes")
+
+    run_over_tasks(args.task, fixed_tasks, "task id", args.episodes, args.first_seed, run_task, out=args.out,
+                   options=options, controller=controller)
 
 
 def outcome_rates(outcomes: Sequence[str], first_seed: int) -> dict:
@@ -102,11 +125,14 @@ def _merge_json(path: str, key: str, value: dict) -> None:
 
 
 def run_over_tasks(task: Optional[str], allowed: Sequence[str], what: str, episodes: int, first_seed: int,
-                   run: Callable[[str, range], object], out: Optional[str] = None, options: Optional[dict] = None) -> None:
+                   run: Callable[[str, range], object], out: Optional[str] = None, options: Optional[dict] = None,
+                   controller: Optional[str] = None) -> None:
     """Call ``run(task_id, seeds)`` for ``task`` (or every id in ``allowed`` when None) and print
-    each result's ``summary()``; with ``out``, also merge each task's ``outcome_rates`` into that
-    JSON file, as the entry ``task_id`` (with the task ``options`` ``run`` uses: ``"task_id
-    [key=value,...]"``). Bad input exits with a message that names it, before any episode runs."""
+    each result's ``summary()``; with ``out``, also merge each task's ``outcome_rates`` (and the
+    result's ``numbers()``, if it has them: SPL, steps per success and, among pedestrians, the
+    social metrics) into that JSON file, as the entry ``task_id`` (with the task ``options``
+    ``run`` uses: ``"task_id [key=value,...]"``; with ``controller``: ``"controller/task_id ..."``).
+    Bad input exits with a message that names it, before any episode runs."""
     from dynnav_tasks.task_options import options_name
 
     from dynnav_tasks.errors import check_choice
@@ -122,7 +148,9 @@ def run_over_tasks(task: Optional[str], allowed: Sequence[str], what: str, episo
         print(result.summary())
         if out is not None:
             key = f"{task_id} [{options_name(options)}]" if options else task_id
-            merge_json(out, key, outcome_rates(result.outcomes, first_seed))
+            numbers = result.numbers() if hasattr(result, "numbers") else {}
+            merge_json(out, f"{controller}/{key}" if controller else key,
+                       dict(outcome_rates(result.outcomes, first_seed), **numbers))
 
 
 def run_over_cells(task: str, difficulty: Optional[str], split: Optional[str], episodes: int, first_seed: int,

@@ -1,7 +1,8 @@
 """The robot driven by a pedestrian model: CrowdNav's classical baselines (an ORCA robot and a
 social-force robot), on the continuous drive.
 
-    python -m dynnav_tasks.baselines.crowd_robot --model orca --episodes 500
+    python -m dynnav_tasks.baselines.crowd_robot --model orca --episodes 500 \
+        --options humans=5,scenario=circle_crossing --out docs/results/crowd_baselines.json
 
 ``CrowdRobot`` plans as one more pedestrian would: from the pedestrians' places and velocities
 (the full state, as CrowdNav's baselines read it; the velocities from their last step) and the
@@ -22,6 +23,7 @@ from typing import Optional
 import numpy as np
 import tyro
 
+from dynnav_tasks.baselines.cli import ControllerArgs, drive_controller
 from dynnav_tasks.baselines.episodes import ROBOT_RADIUS, EpisodeResults, run_episodes
 from dynnav_tasks.baselines.way_grid import static_boxes
 from dynnav_tasks.crowd import orca, social_force
@@ -96,26 +98,27 @@ def run_crowd_robot(task_id: str, seeds, model: str = "orca", progress: bool = F
 
 
 @dataclass
-class Args:
+class Args(ControllerArgs):
     model: str = "orca"
     """the pedestrian model that drives the robot: "orca" or "social_force\""""
     task: str = "DynNav-Crowd-v1"
-    """a task with pedestrians"""
-    scenario: str = "circle_crossing"
-    """the crowd task's scenario"""
-    humans: int = 5
-    """the crowd task's pedestrians"""
+    """a task with pedestrians (its scenario and crowd go in --options, e.g. humans=10,scenario=corridor)"""
     episodes: int = 500
     """episodes (seeds first_seed .. first_seed + episodes - 1)"""
-    first_seed: int = 0
-    """seed of the first episode"""
 
 
 def main(args: Args) -> None:
-    """Drive the episodes ``args`` names and print the rates."""
-    result = run_crowd_robot(args.task, range(args.first_seed, args.first_seed + args.episodes), args.model,
-                             progress=True, task_kwargs=dict(scenario=args.scenario, humans=args.humans))
-    print(result.summary())
+    """Drive the episodes ``args`` names and print (and with ``--out`` record, as
+    ``{model}_robot/<task> [options]``) the rates and the social metrics."""
+    from dynnav_tasks import CROWD_TASK_IDS
+
+    try:
+        check_choice(args.model, MODELS, "model")
+    except ValueError as err:
+        raise SystemExit(f"error: --model: {err}")
+    drive_controller(args, lambda task, seeds, label, kwargs: run_crowd_robot(task, seeds, args.model, progress=True,
+                                                                             label=label, task_kwargs=kwargs),
+                     f"{args.model}_robot", CROWD_TASK_IDS)
 
 
 if __name__ == "__main__":

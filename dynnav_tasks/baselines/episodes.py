@@ -5,7 +5,8 @@ A controller here is any object with ``start(env)`` (called after every reset wi
 ``snapshot``, ``world``, ``obstacle_motions``), and optionally ``control_mode``, the drive its
 actions are for: the discrete drive's (the default, the task's ``control_mode="discrete_drive"``)
 or the velocity drive's (``"diff_drive_vel"``). ``run_episodes`` plays one episode
-per seed and returns an ``EpisodeResults``.
+per seed and returns an ``EpisodeResults``; in a task with pedestrians each episode also keeps
+its social metrics (``dynnav_tasks.crowd.metrics``).
 
 SPL (success weighted by path length, Anderson et al. 2018) is the mean over episodes of
 ``S * l / max(p, l)``, with S 1 on success, p the metres driven and l the shortest way: the
@@ -24,6 +25,8 @@ from dataclasses import dataclass, field
 from typing import Optional, Protocol
 
 from dynnav_tasks.baselines.way_grid import WayGrid
+from dynnav_tasks.crowd.metrics import aggregate as aggregate_social
+from dynnav_tasks.crowd.metrics import episode_social
 from dynnav_tasks.drive import DISCRETE_DRIVE
 from dynnav_tasks.outcomes import outcome_of
 from dynnav_tasks.robot import FOOTPRINT_HALF_LENGTH, FOOTPRINT_HALF_WIDTH
@@ -52,6 +55,9 @@ class Episode:
     steps: int
     path_length: float
     shortest: float
+    social: Optional[dict] = None
+    """in a task with pedestrians: the episode's social metrics and ``human_collision``
+    (``dynnav_tasks.crowd.metrics.episode_social``)"""
 
     @property
     def spl(self) -> float:
@@ -86,13 +92,25 @@ class EpisodeResults:
         how many different worlds the episodes played."""
         steps = [e.steps for e in self.episodes if e.outcome == "success"]
         worlds = {e.world_seed for e in self.episodes if e.world_seed is not None}
-        return dict(spl=round(self.spl(), 4), steps_per_success=round(sum(steps) / len(steps), 1) if steps else None,
-                    worlds=len(worlds) or None)
+        numbers = dict(spl=round(self.spl(), 4), steps_per_success=round(sum(steps) / len(steps), 1) if steps else None,
+                       worlds=len(worlds) or None)
+        social = self.social()
+        return numbers if social is None else dict(numbers, social=social)
+
+    def social(self) -> Optional[dict]:
+        """The social metrics over the episodes (``dynnav_tasks.crowd.metrics.aggregate``); None
+        in a task without pedestrians."""
+        if not self.episodes or self.episodes[0].social is None:
+            return None
+        return aggregate_social([dict(e.social, steps=e.steps) for e in self.episodes])
 
     def summary(self) -> str:
         """One line: success, collision and timeout rates, SPL and the episode count."""
+        social = self.social()
+        crowd = "" if social is None else (f", human collision {social['human_collision_rate']:.1%}, "
+                                           f"discomfort {social['discomfort_frequency']:.3f}")
         return (f"{self.label}: success {self.rate():.1%}, collision {self.rate('collision'):.1%}, "
-                f"timeout {self.rate('timeout'):.1%}, SPL {self.spl():.3f} over {len(self.episodes)} episodes")
+                f"timeout {self.rate('timeout'):.1%}, SPL {self.spl():.3f}{crowd} over {len(self.episodes)} episodes")
 
 
 def shortest_way(env) -> float:
@@ -132,7 +150,8 @@ def run_episodes(label: str, task_id: str, seeds, controller: Controller, progre
                 _, _, terminated, truncated, info = env.step(controller.act(base))
                 done = terminated or truncated
             results.episodes.append(Episode(seed, getattr(base, "world_seed", None), outcome_of(info, terminated),
-                                            int(info["elapsed_steps"]), float(info["path_length"]), shortest))
+                                            int(info["elapsed_steps"]), float(info["path_length"]), shortest,
+                                            episode_social(info)))
     finally:
         env.close()
     return results

@@ -27,6 +27,13 @@ human's.
     step (``nan`` for episodes of fewer than three steps).
 
 A step's distances are read after the step (the positions the step reached), as the outcome is.
+
+Over many episodes (``aggregate``, what a test phase and a baseline's results report), as
+CrowdNav's evaluation pools them: ``human_collision_rate`` is the share of episodes that ended
+in a contact with a human; ``discomfort_frequency`` and ``personal_space_compliance`` pool the
+steps of every episode (an episode of 80 steps weighs twice one of 40); ``min_human_distance``
+is the mean of the episodes' minima; ``time_to_goal`` is the mean over successful episodes;
+``path_length``, ``path_irregularity`` and ``jerk`` are means over the episodes that have them.
 """
 
 from __future__ import annotations
@@ -39,6 +46,14 @@ PERSONAL_SPACE = 0.45
 """m between the robot's and a human's edges: closer violates personal space (SocNavGym)"""
 DISCOMFORT = 0.2
 """m between the edges: closer is discomfort (CrowdNav)"""
+
+
+EPISODE_METRICS = ("min_human_distance", "personal_space_compliance", "discomfort_frequency", "time_to_goal",
+                   "path_length", "spl", "path_irregularity", "jerk")
+"""the keys of one episode's metrics (``SocialMetrics.result``), in the final step's ``info``"""
+AGGREGATE_METRICS = ("human_collision_rate", "min_human_distance", "personal_space_compliance",
+                     "discomfort_frequency", "time_to_goal", "path_length", "path_irregularity", "jerk")
+"""the keys of ``aggregate``'s result, in the order reports list them"""
 
 
 def _wrap(angle: float) -> float:
@@ -90,3 +105,48 @@ class SocialMetrics:
             path_irregularity=max(self._turned - self._needed_turn, 0.0) / path if path > 0 else 0.0,
             jerk=float(np.hypot(*jerk.T).mean()) if len(jerk) else math.nan,
         )
+
+
+def _mean(values) -> float | None:
+    values = [float(v) for v in values if v is not None and math.isfinite(float(v))]
+    return round(sum(values) / len(values), 4) if values else None
+
+
+def aggregate(episodes: list[dict]) -> dict:
+    """The social metrics of many episodes (module docstring), each episode a dict with its
+    ``steps``, ``human_collision`` and its ``EPISODE_METRICS``; a metric no episode has is None."""
+    if not episodes:
+        raise ValueError("no episodes to aggregate")
+    steps = [max(int(e["steps"]), 1) for e in episodes]
+    total = sum(steps)
+
+    def pooled(key: str) -> float:
+        return round(sum(e[key] * n for e, n in zip(episodes, steps)) / total, 4)
+
+    return dict(
+        human_collision_rate=round(sum(bool(e["human_collision"]) for e in episodes) / len(episodes), 4),
+        min_human_distance=_mean(e["min_human_distance"] for e in episodes),
+        personal_space_compliance=pooled("personal_space_compliance"),
+        discomfort_frequency=pooled("discomfort_frequency"),
+        time_to_goal=_mean(e["time_to_goal"] for e in episodes),
+        path_length=_mean(e["path_length"] for e in episodes),
+        path_irregularity=_mean(e["path_irregularity"] for e in episodes),
+        jerk=_mean(e["jerk"] for e in episodes),
+    )
+
+
+def episode_social(info: dict) -> dict | None:
+    """An episode's social metrics and ``human_collision`` from its final step's ``info``
+    (None in a task without pedestrians), as plain floats rounded for a results file
+    (``min_human_distance`` is None when no human was there)."""
+    if EPISODE_METRICS[0] not in info:
+        return None
+    out = dict(human_collision=bool(_item(info["human_collision"])))
+    for key in EPISODE_METRICS:
+        v = float(_item(info[key]))
+        out[key] = round(v, 4) if math.isfinite(v) else None
+    return out
+
+
+def _item(value):
+    return value.item() if hasattr(value, "item") else value
