@@ -242,6 +242,7 @@ class NavEnv(Observations, TopDownView, BaseEnv):
         static = [(c[0] - h[0], c[1] - h[1], c[0] + h[0], c[1] + h[1])
                   for c, h in zip(built.static_obstacle_xy, built.obstacle_half)]
         self._crowd_boxes = np.array(walls + static, dtype=np.float64).reshape(-1, 4)
+        self._moving_half = np.asarray(built.obstacle_half, dtype=np.float64)[len(built.static_obstacle_xy):]
 
     # ------------------------------------------------------------------ episodes
     def _initialize_episode(self, env_idx: torch.Tensor, options: dict):
@@ -271,7 +272,7 @@ class NavEnv(Observations, TopDownView, BaseEnv):
         start = world.start.sample(rng)
         self.agent.set_pose2d(*start)
         if self._crowd is not None:  # the crowd last: the box worlds' draws stay what they were
-            self._crowd.reset(rng, keep_clear=[start[:2], self._target_xy])
+            self._crowd.reset(rng, keep_clear=[start[:2], self._target_xy, *self._moving_xy], boxes=self._crowd_boxes)
             pose = self._kinematic_pose
             for body, (x, y) in zip(self._human_bodies, self._crowd.positions.tolist()):
                 pose.p = [x, y, self.world.pedestrians.height / 2]
@@ -359,7 +360,10 @@ class NavEnv(Observations, TopDownView, BaseEnv):
         old = crowd.positions.copy()
         s = self._snapshot
         robot = ((s.pose[0], s.pose[1]), self._robot_velocity, ROBOT_RADIUS) if crowd.spec.see_robot else None
-        new = crowd.step(1.0 / self._control_freq, self.np_random, robot=robot, boxes=self._crowd_boxes)
+        boxes = self._crowd_boxes
+        if len(self._moving_xy):  # the moving boxes where they are now, avoided as resting ones
+            boxes = np.vstack([boxes, np.hstack([self._moving_xy - self._moving_half, self._moving_xy + self._moving_half])])
+        new = crowd.step(1.0 / self._control_freq, self.np_random, robot=robot, boxes=boxes)
         np.add(old, (new - old) * self._sub_step_fractions, out=self._human_kinematic_xy, casting="same_kind")
         return self._human_bodies, self._human_rows
 

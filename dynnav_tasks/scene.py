@@ -86,14 +86,15 @@ UPRIGHT = [0.7071068, 0, 0.7071068, 0]
 """SAPIEN's cylinder axis (x) turned to the world's z"""
 
 
-def add_pedestrian(scene, name: str, radius: float, height: float, position):
-    """A pedestrian: an upright kinematic cylinder standing on the floor at ``position`` (x, y),
-    with a collision shape (the lasers and the robot meet it) and the pedestrians' colour."""
+def add_pedestrian(scene, name: str, radius: float, height: float, position, z=None):
+    """A pedestrian: an upright kinematic cylinder standing on the floor at ``position`` (x, y)
+    (or with its centre at height ``z``), with a collision shape (the lasers and the robot meet
+    it) and the pedestrians' colour."""
     b = scene.create_actor_builder()
     pose = sapien.Pose([0, 0, 0], UPRIGHT)
     b.add_cylinder_collision(pose, radius=radius, half_length=height / 2)
     b.add_cylinder_visual(pose, radius=radius, half_length=height / 2, material=material(PEDESTRIAN_COLOR))
-    b.initial_pose = sapien.Pose([float(position[0]), float(position[1]), height / 2])
+    b.initial_pose = sapien.Pose([float(position[0]), float(position[1]), height / 2 if z is None else float(z)])
     return b.build_kinematic(name)
 
 

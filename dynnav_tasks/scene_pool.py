@@ -8,7 +8,9 @@ reset budget. The pool builds, once, every body any world of its kind can need:
 * four walls long enough for the largest arena, moved so that their inner faces lie on the
   episode's arena bounds (they run on past its corners, outside the arena);
 * ``max_static`` static blocks and ``max_moving`` kinematic boxes, all of one size;
-* two targets: a red disc, and a disc with the camera worlds' marker column.
+* two targets: a red disc, and a disc with the camera worlds' marker column;
+* ``max_pedestrians`` pedestrians (kinematic upright cylinders), which the task's crowd places
+  at each reset.
 
 ``place(world)`` moves the bodies the world uses into place and parks the ones it does not
 use far under the floor (``PARK_Z``), each at its own spot, and switches them off: a
@@ -27,7 +29,7 @@ import numpy as np
 import sapien
 
 from .maniskill_adapter import physx_body, sapien_object
-from .scene import HIDDEN_Z, BuiltWorld, add_box, add_target, material
+from .scene import HIDDEN_Z, BuiltWorld, add_box, add_pedestrian, add_target, material
 from .world import FLOOR_COLOR, MOVING_OBSTACLE_COLOR, STATIC_OBSTACLE_COLOR, WALL_COLORS, Arena, World
 
 PARK_Z = 2 * HIDDEN_Z
@@ -50,6 +52,12 @@ class PoolSizes:
     """height of every block and moving box (m)"""
     max_arena_side: float = 20.0
     """the longest side of an arena the walls and floor cover (m)"""
+    max_pedestrians: int = 0
+    """pedestrians (the most any world may have)"""
+    pedestrian_radius: float = 0.3
+    """radius of every pedestrian (m)"""
+    pedestrian_height: float = 1.7
+    """height of every pedestrian (m)"""
 
 
 class ScenePool:
@@ -77,12 +85,19 @@ class ScenePool:
         moving = [add_box(scene, f"mover{i}", _park_xy(i), half, height, MOVING_OBSTACLE_COLOR, True, moving_z)
                   for i in range(sizes.max_moving)]
         self._moving = [physx_body(actor) for actor in moving]
+        self._pedestrian_z = moving_z - 2 * sizes.pedestrian_height
+        self._pedestrians = [
+            physx_body(add_pedestrian(scene, f"walker{i}", sizes.pedestrian_radius, sizes.pedestrian_height, _park_xy(i),
+                                      self._pedestrian_z))
+            for i in range(sizes.max_pedestrians)
+        ]
         self._targets = [add_target(scene, f"target{m}", marker, [0.0, 0.0, HIDDEN_Z]) for m, marker in enumerate((False, True))]
         self._static_parts = [tuple(entity.components) for entity in self._static]
         self._moving_parts = [tuple(body.entity.components) for body in self._moving]
-        for parts in self._static_parts + self._moving_parts:
+        self._pedestrian_parts = [tuple(body.entity.components) for body in self._pedestrians]
+        for parts in self._static_parts + self._moving_parts + self._pedestrian_parts:
             _switch(parts, False)
-        self._static_used = self._moving_used = 0
+        self._static_used = self._moving_used = self._pedestrians_used = 0
 
     # ------------------------------------------------------------------ placing
     def check(self, world: World) -> None:
@@ -108,6 +123,13 @@ class ScenePool:
         if world.moving_obstacle_count > s.max_moving:
             raise ValueError(f"the world has {world.moving_obstacle_count} moving obstacles; this task holds at most "
                              f"{s.max_moving}")
+        p = world.pedestrians
+        if p is not None and p.count:
+            if p.count > s.max_pedestrians:
+                raise ValueError(f"the world has {p.count} pedestrians; this task holds at most {s.max_pedestrians}")
+            if (p.radius, p.height) != (s.pedestrian_radius, s.pedestrian_height):
+                raise ValueError(f"every pedestrian of this task has radius {s.pedestrian_radius:g} m and height "
+                                 f"{s.pedestrian_height:g} m; got {p.radius:g} m and {p.height:g} m")
 
     def place(self, world: World) -> BuiltWorld:
         """Show ``world``: place its walls and floor, park what it does not use (see the module
@@ -133,6 +155,11 @@ class ScenePool:
         entities = [body.entity for body in self._moving]
         self._moving_used = self._use(entities, self._moving_parts, bodies_used, self._moving_used, self._moving_z)
 
+        walkers = world.pedestrians.count if world.pedestrians is not None else 0
+        entities = [body.entity for body in self._pedestrians]
+        self._pedestrians_used = self._use(entities, self._pedestrian_parts, walkers, self._pedestrians_used,
+                                           self._pedestrian_z)
+
         target = self._targets[int(world.target_marker)]
         self._targets[1 - int(world.target_marker)].set_pose(sapien.Pose([0.0, 0.0, HIDDEN_Z]))
         half = [tuple(float(v) for v in g.half_size) for g in world.obstacles if not g.moving for _ in range(g.count)]
@@ -144,6 +171,7 @@ class ScenePool:
             static_obstacle_xy=np.array(static_xy, dtype=np.float64).reshape(-1, 2),
             obstacle_half=np.array(half, dtype=np.float64).reshape(-1, 2),
             targets=[(world.targets[0].mover(), target)],
+            pedestrian_bodies=self._pedestrians[:walkers],
         )
 
     # ------------------------------------------------------------------ parking

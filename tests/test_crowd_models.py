@@ -171,3 +171,30 @@ def test_a_crowd_that_cannot_fit_is_refused():
         Crowd(Pedestrians(60, circle_radius=1.0)).reset(np.random.default_rng(0))
     with pytest.raises(ValueError, match="pedestrian model 'rvo' is not one of social_force, orca"):
         Pedestrians(5, model="rvo")
+
+
+def test_free_space_pedestrians_start_clear_of_the_boxes_and_head_only_for_goals_in_sight():
+    """A wall from (4, -5) to (4, 3) splits a 10 m room (a gap above it): every start leaves
+    0.5 m (radius and spacing) to every box, and every goal, at the start and on arrival, is
+    1 m away or more and seen past the wall (a straight walk that clears it by a radius)."""
+    from dynnav_tasks.crowd.crowd import Crowd, Pedestrians
+
+    walls = np.array([[3.9, -5.0, 4.1, 3.0], [-5.2, -5.0, -5.0, 5.0]])
+    crowd = Crowd(Pedestrians(8, model="orca", scenario="free_space", area=((-5.0, 5.0), (-5.0, 5.0))))
+    rng = np.random.default_rng(4)
+    crowd.reset(rng, keep_clear=[(0.0, 0.0)], boxes=walls)
+
+    def gap(p, b):
+        return math.hypot(max(b[0] - p[0], 0.0, p[0] - b[2]), max(b[1] - p[1], 0.0, p[1] - b[3]))
+
+    def seen(a, b):  # sampled along the segment: never within a radius of a wall
+        return all(min(gap(a + t * (b - a), w) for w in walls) >= 0.3 - 1e-9 for t in np.linspace(0, 1, 400))
+
+    assert all(gap(p, w) > 0.5 for p in crowd.positions for w in walls)
+    assert all(np.hypot(*(g - p)) >= 1.0 and seen(p, g) for p, g in zip(crowd.positions, crowd.goals))
+    for _ in range(300):  # walking: new goals stay in sight, and nobody goes through the wall
+        before = crowd.goals.copy()
+        crowd.step(0.2, rng, boxes=walls)
+        for i in np.flatnonzero((crowd.goals != before).any(axis=1)):
+            assert seen(crowd.positions[i], crowd.goals[i])
+        assert all(gap(p, w) > 0.3 - 0.05 for p in crowd.positions for w in walls)

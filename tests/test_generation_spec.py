@@ -37,6 +37,9 @@ BAD_FIELDS = [
     ("target_distance", (0.2, 3.0)),
     ("target_distance", (3.0, 2.0)),
     ("camera", "yes"),
+    ("pedestrians", (0, 21)),
+    ("pedestrians", (3, 2)),
+    ("pedestrian_model", ("zombie",)),
 ]
 
 
@@ -157,3 +160,23 @@ def test_the_presets_differ_as_documented():
                 if o.moving:
                     speeds = (o.motion.speed,) if hasattr(o.motion, "speed") else o.motion.speed_range
                     assert all(low - 1e-3 <= s <= high + 1e-3 for s in speeds), (key, o.motion)
+
+
+def test_pedestrians_come_on_top_of_the_same_world():
+    """A spec with pedestrians draws them last: the same layout, start, target and boxes as the
+    spec without them, plus a free-space crowd in the arena; the count comes from its range."""
+    from dataclasses import replace
+
+    from dynnav_tasks.generation import generate_world, spec_for
+
+    spec = spec_for("medium", "test")
+    for seed in (3, 11):
+        plain = generate_world(spec, seed)
+        crowded = generate_world(replace(spec, pedestrians=(2, 6), pedestrian_model=("social_force",)), seed)
+        assert plain.pedestrians is None and replace(crowded, pedestrians=None) == plain
+        p = crowded.pedestrians
+        assert 2 <= p.count <= 6 and (p.scenario, p.model) == ("free_space", "social_force")
+        assert p.area == (plain.arena.x_range, plain.arena.y_range)
+    with pytest.raises(GenerationError, match="pedestrians.*fit") as info:
+        WorldSpec(arena_size=(6.0, 10.0), pedestrians=(0, 19), target_distance=(2.0, 4.0))
+    assert info.value.field == "pedestrians"

@@ -224,3 +224,32 @@ def test_every_split_of_every_difficulty_runs_in_its_own_worlds(difficulty):
                         break
         finally:
             env.close()
+
+
+def test_pedestrians_walk_the_procedural_worlds_and_leave_with_them():
+    """``pedestrians=3``: each generated world holds three walkers, in the state's human slots
+    (``human_k``); a world passed with one shows it to the lasers where it stands, and a world
+    passed without pedestrians shows none of them."""
+    from dataclasses import replace
+
+    from dynnav_tasks.crowd.crowd import Pedestrians
+
+    env = dynnav_tasks.NumpyWrapper(gym.make(TASK, difficulty="easy", split="test", pedestrians=3, human_k=2))
+    try:
+        obs, _ = env.reset(seed=4)
+        u = env.unwrapped
+        assert u.world.pedestrians.count == 3 and obs.shape == (19 + 5 * 4 + 5 * 2,)
+        layout = dict(u.task_state_layout())
+        assert layout["human1"] == 5 and "human2" not in layout
+        assert u.snapshot.human_xy.shape == (3, 2)
+        one = Pedestrians(1, scenario="free_space", area=((0.0, 10.0), (0.0, 10.0)))
+        env.reset(seed=0, options={"world": replace(contract_world(size=10.0, target=(9.0, 9.0)), pedestrians=one)})
+        u.place_pedestrians([(5.0, 5.0)])
+        lasers = u.place_robot(3.5, 5.0, 0.0)[:16]
+        assert lasers[0] == pytest.approx(1.2, abs=1e-3)  # 1.5 m to its centre, 0.3 m radius
+        env.reset(seed=0, options={"world": contract_world(size=10.0, target=(9.0, 9.0))})
+        assert len(u.snapshot.human_xy) == 0
+        lasers = u.place_robot(5.0, 5.0, 0.0)[:16]
+        np.testing.assert_allclose(lasers[[0, 4, 8, 12]], [5.0, 5.0, 5.0, 5.0], atol=1e-3)  # only the walls
+    finally:
+        env.close()

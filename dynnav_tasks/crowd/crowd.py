@@ -16,6 +16,13 @@ goal. Scenarios (``SCENARIOS``), after CrowdNav (Chen et al. 2019):
     a corridor along x of ``square_width`` by ``corridor_width``: half the crowd starts in the
     west end's last 40% walking east, half in the east end's walking west (two-way flow), each
     goal within 2 m of the far end; on arrival the goal is at the other end again.
+``free_space``
+    for worlds with a static layout (the procedural worlds, a building's map): starts uniform in
+    the rectangle ``area``, clear of the static boxes and walls by ``spacing``; each goal a point
+    of ``area`` as clear, at least ``MIN_LEG`` m away and in straight sight of the pedestrian
+    (the segment clears every box by its radius), so that no pedestrian walks into a wall it
+    cannot get round; on arrival the next such goal (none found in ``MAX_DRAWS`` draws: back to
+    where it came from). The boxes are those the task gives ``reset`` (its walls and blocks).
 
 Every start keeps ``radius`` + ``radius`` + ``spacing`` from the others and from ``keep_clear``
 points (the robot's start and target), redrawn until it does (``PlacementError`` after
@@ -40,10 +47,14 @@ from . import orca, social_force
 
 MODELS = ("social_force", "orca")
 """the motion models a crowd can follow"""
-SCENARIOS = ("circle_crossing", "square_crossing", "corridor")
+SCENARIOS = ("circle_crossing", "square_crossing", "corridor", "free_space")
 """where the pedestrians start and where they head (module docstring)"""
 MAX_DRAWS = 1000
 """draws per pedestrian before a crowd that does not fit is refused"""
+MIN_LEG = 1.0
+"""m: the shortest walk to a new goal in ``free_space``"""
+CANDIDATES = 64
+"""``free_space``: points drawn at once when looking for a start or a goal"""
 
 
 class PlacementError(ValueError):
@@ -66,6 +77,8 @@ class Pedestrians:
     """m: square crossing's square (CrowdNav's 10 m) and the corridor's length"""
     corridor_width: float = 3.0
     """m: the corridor's width"""
+    area: tuple[tuple[float, float], tuple[float, float]] = ((-5.0, 5.0), (-5.0, 5.0))
+    """m: free space's rectangle, ((x low, x high), (y low, y high)), e.g. the arena's"""
     radius: float = 0.3
     """m: a pedestrian's body (CrowdNav's 0.3 m)"""
     height: float = 1.7
@@ -94,6 +107,9 @@ class Pedestrians:
                      "square_width", "corridor_width"):
             if not getattr(self, name) > 0:
                 raise ValueError(f"pedestrians' {name} must be > 0, got {getattr(self, name)!r}")
+        (x_lo, x_hi), (y_lo, y_hi) = self.area
+        if not (x_hi - x_lo > 2 * self.radius and y_hi - y_lo > 2 * self.radius):
+            raise ValueError(f"pedestrians' area {self.area} must be wider than a pedestrian on both axes")
 
 
 class Crowd:
@@ -107,15 +123,21 @@ class Crowd:
         self.radii = np.full(n, spec.radius)
         self.speeds = np.full(n, spec.preferred_speed)
         self._east = np.zeros(n, bool)  # square crossing and corridor: which side a pedestrian heads for
+        self._boxes = np.zeros((0, 4))  # free space: the static boxes and walls (``reset``)
 
     # ------------------------------------------------------------------ placing
-    def reset(self, rng: np.random.Generator, keep_clear=()) -> None:
-        """Place every pedestrian and give it a goal, clear of each other and of ``keep_clear`` (x, y) points."""
+    def reset(self, rng: np.random.Generator, keep_clear=(), boxes=None) -> None:
+        """Place every pedestrian and give it a goal, clear of each other and of ``keep_clear`` (x, y)
+        points; ``boxes`` (k, 4: lo_x, lo_y, hi_x, hi_y), the static boxes and walls ``free_space``
+        keeps clear of and sees past."""
         s, placed = self.spec, []
+        self._boxes = np.zeros((0, 4)) if boxes is None else np.asarray(boxes, float).reshape(-1, 4)
         clear = [np.asarray(p, float) for p in keep_clear]
         for i in range(s.count):
             for _ in range(MAX_DRAWS):
                 start, goal, east = self._draw(i, rng)
+                if goal is None:
+                    continue
                 gap = 2 * s.radius + s.spacing
                 if all(np.hypot(*(start - q)) >= gap for q in placed + clear) and \
                         all(np.hypot(*(goal - self.goals[j])) >= gap for j in range(i)):
@@ -129,6 +151,13 @@ class Crowd:
 
     def _draw(self, i: int, rng: np.random.Generator):
         s, (cx, cy) = self.spec, self.spec.center
+        if s.scenario == "free_space":
+            points = self._free_points(rng, CANDIDATES)
+            clear = self._clear(points)
+            if not clear.any():
+                return None, None, False
+            start = points[int(np.argmax(clear))]
+            return start, self._free_goal(start, rng), False
         if s.scenario == "circle_crossing":
             angle = rng.uniform(0.0, 2.0 * math.pi)
             noise = rng.uniform(-0.5, 0.5, 2) * s.preferred_speed  # CrowdNav: (rand - 0.5) * v_pref on each axis
@@ -155,6 +184,51 @@ class Crowd:
         half_w = s.corridor_width / 2 - s.radius
         along = s.square_width / 2 - rng.uniform(0.0, min(2.0, s.square_width / 4))  # within 2 m of the end
         return np.array([cx + (1.0 if east else -1.0) * along, cy + rng.uniform(-half_w, half_w)])
+
+    def _free_points(self, rng, n: int) -> np.ndarray:
+        """``n`` uniform points of ``area`` kept ``radius`` from its edges (free or not: see ``_clear``)."""
+        s = self.spec
+        (x_lo, x_hi), (y_lo, y_hi) = s.area
+        r = s.radius
+        return np.column_stack([rng.uniform(x_lo + r, x_hi - r, n), rng.uniform(y_lo + r, y_hi - r, n)])
+
+    def _clear(self, points: np.ndarray) -> np.ndarray:
+        """Which ``points`` leave a pedestrian's body ``spacing`` from every box."""
+        b, gap = self._boxes, self.spec.radius + self.spec.spacing
+        if not len(b):
+            return np.ones(len(points), bool)
+        dx = np.maximum(np.maximum(b[None, :, 0] - points[:, None, 0], points[:, None, 0] - b[None, :, 2]), 0.0)
+        dy = np.maximum(np.maximum(b[None, :, 1] - points[:, None, 1], points[:, None, 1] - b[None, :, 3]), 0.0)
+        return (np.hypot(dx, dy) > gap).all(axis=1)
+
+    def _in_sight(self, origin: np.ndarray, points: np.ndarray) -> np.ndarray:
+        """Which segments from ``origin`` to ``points`` miss every box grown by a pedestrian's radius
+        (the slab test of a segment against an axis-aligned box)."""
+        b = self._boxes
+        if not len(b):
+            return np.ones(len(points), bool)
+        r = self.spec.radius
+        lo, hi = b[:, :2] - r, b[:, 2:] + r  # (k, 2)
+        d = points - origin  # (m, 2)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            inv = 1.0 / d[:, None, :]  # (m, 1, 2)
+            t1, t2 = (lo[None] - origin) * inv, (hi[None] - origin) * inv  # (m, k, 2)
+        flat = d[:, None, :] == 0.0  # a segment parallel to an axis: inside that slab or not at all
+        inside = (origin >= lo[None]) & (origin <= hi[None])
+        t_near = np.where(flat, np.where(inside, -np.inf, np.inf), np.minimum(t1, t2)).max(axis=2)
+        t_far = np.where(flat, np.where(inside, np.inf, -np.inf), np.maximum(t1, t2)).min(axis=2)
+        hits = (t_near <= t_far) & (t_far >= 0.0) & (t_near <= 1.0)
+        return ~hits.any(axis=1)
+
+    def _free_goal(self, origin: np.ndarray, rng) -> Optional[np.ndarray]:
+        """A ``free_space`` goal for a pedestrian at ``origin`` (module docstring), or None."""
+        for _ in range(MAX_DRAWS // CANDIDATES):
+            points = self._free_points(rng, CANDIDATES)
+            ok = (np.hypot(*(points - origin).T) >= MIN_LEG) & self._clear(points)
+            ok[ok] = self._in_sight(origin, points[ok])
+            if ok.any():
+                return points[int(np.argmax(ok))]
+        return None
 
     # ------------------------------------------------------------------ moving
     def preferred_velocities(self, dt: float) -> np.ndarray:
@@ -193,6 +267,9 @@ class Crowd:
         for i in np.flatnonzero(arrived):
             if s.scenario == "circle_crossing":
                 self.goals[i], self.starts[i] = self.starts[i].copy(), self.goals[i].copy()
+            elif s.scenario == "free_space":
+                goal = self._free_goal(self.positions[i], rng)
+                self.starts[i], self.goals[i] = self.positions[i].copy(), self.starts[i] if goal is None else goal
             else:
                 self._east[i] = not self._east[i]
                 self.goals[i] = (self._square_goal if s.scenario == "square_crossing"

@@ -15,10 +15,13 @@ an occupancy grid, the target's marker visible in camera worlds. Bad input is a
 
 from .generator import generate_world
 from .presets import DIFFICULTIES, SPLITS, spec_for
-from .spec import BLOCK_HALF, MAX_MOVING_OBSTACLES, MAX_STATIC_BLOCKS, GenerationError, WorldSpec
+from .spec import (
+    BLOCK_HALF, MAX_MOVING_OBSTACLES, MAX_PEDESTRIANS, MAX_STATIC_BLOCKS, PEDESTRIAN_MODELS, GenerationError, WorldSpec,
+)
 from .splits import test_world_seeds, train_world_seed
 
 __all__ = [
-    "BLOCK_HALF", "DIFFICULTIES", "GenerationError", "MAX_MOVING_OBSTACLES", "MAX_STATIC_BLOCKS", "SPLITS",
+    "BLOCK_HALF", "DIFFICULTIES", "GenerationError", "MAX_MOVING_OBSTACLES", "MAX_PEDESTRIANS", "MAX_STATIC_BLOCKS",
+    "PEDESTRIAN_MODELS", "SPLITS",
     "WorldSpec", "generate_world", "spec_for", "test_world_seeds", "train_world_seed",
 ]

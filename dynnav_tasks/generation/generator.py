@@ -13,7 +13,10 @@ sets or dicts):
    whole extent ``PATH_RADIUS`` clear of blocks and walls, at least 0.6 m from the start area,
    and in camera worlds with its marker visible from the start; up to ``TARGET_TRIES`` cells;
 4. the moving obstacles: a count in ``spec.moving_obstacles``; per group a model of
-   ``spec.motion_mix`` placed by ``moving.place_obstacle``.
+   ``spec.motion_mix`` placed by ``moving.place_obstacle``;
+5. only when ``spec.pedestrians`` allows some: their count and their model. They are drawn
+   last, so a spec with pedestrians gives the same layout, start, target and boxes as the
+   spec without them; the crowd (scenario "free_space" in the arena) places them at each reset.
 
 The checks of ``validity.py`` hold by construction. An attempt that cannot complete a step
 (no start cell, no target cell, an obstacle that fits nowhere) is dropped and the next
@@ -31,6 +34,7 @@ import numbers
 
 import numpy as np
 
+from ..crowd.crowd import Pedestrians
 from ..motion import Static
 from ..world import Arena, Obstacles, StartArea, World
 from .layouts import build_layout
@@ -112,6 +116,12 @@ def _attempt(spec: WorldSpec, rng: np.random.Generator) -> World | str:
             return "moving_obstacles"
         moving.append(Obstacles(half_size=(BLOCK_HALF, BLOCK_HALF), motion=motion))
         left -= count
+    pedestrians = None
+    if spec.pedestrians[1] > 0:
+        count = int(spec.pedestrians[0] + rng.integers(spec.pedestrians[1] - spec.pedestrians[0] + 1))
+        model = spec.pedestrian_model[int(rng.integers(len(spec.pedestrian_model)))]
+        if count:
+            pedestrians = Pedestrians(count, model, "free_space", area=((0.0, size[0]), (0.0, size[1])))
     statics = tuple(
         Obstacles(half_size=(BLOCK_HALF, BLOCK_HALF), motion=Static((x, y))) for x, y in index.centers.tolist()
     )
@@ -121,6 +131,7 @@ def _attempt(spec: WorldSpec, rng: np.random.Generator) -> World | str:
         arena=Arena(x_range=(0.0, size[0]), y_range=(0.0, size[1])),
         start=StartArea(x_range=(start_rect[0][0], start_rect[1][0]), y_range=(start_rect[0][1], start_rect[1][1])),
         target_marker=spec.camera,
+        pedestrians=pedestrians,
     )
 
 

@@ -47,6 +47,11 @@ at every heading"""
 CAMERA_HEIGHT = CAMERA_OFFSET[2]
 """height (m) of the front camera's lens above the floor"""
 
+MAX_PEDESTRIANS = 20
+"""no generated world has more pedestrians"""
+PEDESTRIAN_MODELS = ("orca", "social_force")
+"""the pedestrians' motion models (``dynnav_tasks.crowd``)"""
+
 LAYOUTS = ("open", "clutter", "corridors", "rooms")
 MOTIONS = ("back_and_forth", "route", "random_in_rect")
 TARGET_MOTIONS = ("static", "moving")
@@ -96,13 +101,21 @@ class WorldSpec:
     camera: bool = False
     """a camera world: the target carries its red marker (``World.target_marker``) and is
     visible from the start (see ``validity.marker_visible``)"""
+    pedestrians: tuple[int, int] = (0, 0)
+    """range of the number of pedestrians (0-20, inclusive), drawn uniformly: 0.3 m cylinders
+    walking in the world's free space at 0.75 m/s (``dynnav_tasks.crowd``, scenario
+    "free_space"), invisible to the robot's presence; at most one per
+    ``AREA_PER_MOVING_OBSTACLE`` of the smallest arena, as the moving boxes"""
+    pedestrian_model: tuple[str, ...] = ("orca",)
+    """the pedestrians' motion model, one drawn per world: "orca" and/or "social_force\""""
 
     def __post_init__(self):
-        for name in ("layout", "motion_mix", "target_motion"):  # a name, or a list of names
+        for name in ("layout", "motion_mix", "target_motion", "pedestrian_model"):  # a name, or a list of names
             value = getattr(self, name)
             if isinstance(value, (str, list)):
                 object.__setattr__(self, name, (value,) if isinstance(value, str) else tuple(value))
-        for name in ("arena_size", "layout_density", "moving_obstacles", "relative_speed", "target_distance"):
+        for name in ("arena_size", "layout_density", "moving_obstacles", "relative_speed", "target_distance",
+                     "pedestrians"):
             value = getattr(self, name)  # a number means (number, number); a list a tuple
             if isinstance(value, numbers.Real) and not isinstance(value, bool):
                 object.__setattr__(self, name, (value, value))
@@ -123,6 +136,15 @@ class WorldSpec:
                 "Lower moving_obstacles or raise arena_size.",
                 "moving_obstacles",
             )
+        _, p_high = _int_range(self, "pedestrians", 0, MAX_PEDESTRIANS)
+        if p_high > fit:
+            raise GenerationError(
+                f"WorldSpec.pedestrians: at most {fit} pedestrians fit in the smallest arena of arena_size "
+                f"({low:g} m x {low:g} m, one per {AREA_PER_MOVING_OBSTACLE:g} m^2); got up to {p_high}. "
+                "Lower pedestrians or raise arena_size.",
+                "pedestrians",
+            )
+        _names(self, "pedestrian_model", PEDESTRIAN_MODELS, "pedestrian model")
         _names(self, "motion_mix", MOTIONS, "motion model")
         s_low, _ = _real_range(self, "relative_speed", 0.0, MAX_RELATIVE_SPEED, "robot steps")
         if s_low <= 0:

@@ -79,6 +79,13 @@ class ProceduralEnv(NavEnv):
       after the target, the way to it through the static layout (``way_sense.py``: its
       length, sin and cos of the bearing of the point 0.5 m along it), as a robot with a map
       and a global planner knows it: 22 + 5 k values
+    * ``pedestrians=n`` (0-20, default 0): every world also holds n pedestrians walking its free
+      space (``WorldSpec.pedestrians``; the same layout, start, target and boxes as without
+      them), moved by ``pedestrian_model`` ("orca", default, or "social_force"), blind to the
+      robot; touching one is a collision (``info["human_collision"]``) and the episode's last
+      info holds the social metrics. ``human_k`` (default 0) adds, after the obstacles, the
+      k nearest pedestrians' relative x, y, vx, vy and radius (5 values each), as
+      ``DynNav-Crowd-v1``'s state does
     * ``obs_mode="rgb"`` and ``"rgb+state"``: the camera worlds' red marker stands on the
       target (the generator makes it visible from the start)
     * reward: as every task's; ``normalized_dense`` divides by the current world's bound
@@ -108,6 +115,9 @@ class ProceduralEnv(NavEnv):
         obstacle_k: int = DEFAULT_OBSTACLE_K,
         way: bool = False,
         study_world: str = "",
+        pedestrians: int = 0,
+        pedestrian_model: str = "orca",
+        human_k: int = 0,
         obs_mode: Optional[str] = None,
         **kwargs,
     ):
@@ -129,9 +139,17 @@ class ProceduralEnv(NavEnv):
             raise ValueError(f"obstacle_k must be an integer from 0 to {generation.MAX_MOVING_OBSTACLES} (the moving "
                              f"obstacles the state describes); got {obstacle_k!r}")
         self.obstacle_k = int(obstacle_k)
+        for name, value in (("pedestrians", pedestrians), ("human_k", human_k)):
+            if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not 0 <= value <= generation.MAX_PEDESTRIANS:
+                raise ValueError(f"{name} must be an integer from 0 to {generation.MAX_PEDESTRIANS}; got {value!r}")
+        self.human_k = int(human_k)
+        crowd = dict(pedestrians=(int(pedestrians),) * 2,
+                     pedestrian_model=check_choice(pedestrian_model, generation.PEDESTRIAN_MODELS, "pedestrian_model"))
         camera = "rgb" in check_choice(obs_mode or OBS_MODES[0], self.SUPPORTED_OBS_MODES, "obs_mode")
         self._draws = generation.DIFFICULTIES if self.difficulty == MIXED else (self.difficulty,)
         self._specs = {d: generation.spec_for(d, self.split, camera=camera) for d in self._draws}
+        if pedestrians:
+            self._specs = {d: replace(spec, **crowd) for d, spec in self._specs.items()}
         self.world_difficulty = self._next_difficulty = self._draws[0]
         """the current world's difficulty (one of three with ``difficulty="mixed"``)"""
         self.world_spec = self._specs[self.world_difficulty]
@@ -204,7 +222,8 @@ class ProceduralEnv(NavEnv):
     # ------------------------------------------------------------------ scene and episodes
     def _build_world(self) -> BuiltWorld:
         g = generation
-        sizes = PoolSizes(g.MAX_STATIC_BLOCKS, g.MAX_MOVING_OBSTACLES, g.BLOCK_HALF, max_arena_side=MAX_ARENA_SIDE)
+        sizes = PoolSizes(g.MAX_STATIC_BLOCKS, g.MAX_MOVING_OBSTACLES, g.BLOCK_HALF, max_arena_side=MAX_ARENA_SIDE,
+                          max_pedestrians=g.MAX_PEDESTRIANS)
         self._pool = ScenePool(self.scene, sizes)
         self._shown = None  # ManiSkill puts every body back where it was built: the first reset places them
         return self._pool.place(self.world)
@@ -253,7 +272,8 @@ class ProceduralEnv(NavEnv):
         """The egocentric state (``egocentric.py``), float32 of 19 + 5 ``obstacle_k`` values (22 + ...
         with ``way``)."""
         s = self.observed_snapshot
-        return egocentric_state(s, self._before, self.obstacle_k, self.way_reading(s) if self.way else None)
+        return egocentric_state(s, self._before, self.obstacle_k, self.way_reading(s) if self.way else None,
+                                self.human_k)
 
     def way_reading(self, snapshot: StepSnapshot) -> tuple[float, float, float]:
         """The way to the target through this world's static layout from ``snapshot``'s pose
@@ -266,11 +286,11 @@ class ProceduralEnv(NavEnv):
     def task_state_space(self) -> gym.spaces.Box:
         """Bounds of the egocentric state (``egocentric.egocentric_space``)."""
         lasers = self._sensing.lasers
-        return egocentric_space(len(lasers.angles), lasers.max_range, self.obstacle_k, self.way)
+        return egocentric_space(len(lasers.angles), lasers.max_range, self.obstacle_k, self.way, self.human_k)
 
     def task_state_layout(self) -> list[tuple[str, int]]:
         """Names and sizes of the parts of the egocentric state, in order."""
-        return egocentric_layout(len(self._sensing.lasers.angles), self.obstacle_k, self.way)
+        return egocentric_layout(len(self._sensing.lasers.angles), self.obstacle_k, self.way, self.human_k)
 
     # ------------------------------------------------------------------ top-down picture
     @property
