@@ -8,6 +8,7 @@ from pathlib import Path
 import pytest
 
 from agents.study.report import write_report
+from agents.study.run_record import social_columns
 from agents.study.table import EPISODE_COLUMNS, RUN_COLUMNS, add_rows, read_table
 
 FIXED = "DynNav-MovingObstacles-v1"
@@ -24,7 +25,8 @@ def run_row(experiment: str, seed: int, success: float, tested_on: str = "", tas
                collision_rate=collision, timeout_rate=round(1 - success - collision, 6), avg_steps_success=40.0,
                spl=spl, avg_return=-10.0, converge_episode=300, wall_clock_s=60.0, train_s=55.0, eval_s=5.0,
                episodes_planned=400, episodes_done=400, curve_block=50, curve_return=" ".join(["-5"] * 8),
-               curve_loss=" ".join(["nan"] + ["0.5"] * 7), curve_success=" ".join(["0.5"] * 8))
+               curve_loss=" ".join(["nan"] + ["0.5"] * 7), curve_success=" ".join(["0.5"] * 8),
+               **social_columns(None))  # no pedestrians
     assert set(row) == set(RUN_COLUMNS)
     return row
 

@@ -9,6 +9,7 @@ import pytest
 from agents.study.cells import cell_of, find_configs, seeds_for_width, study_rate
 from agents.study.numbers import FIGURES, THESIS
 from agents.study.report import main, render, write_report
+from agents.study.run_record import social_columns
 from agents.study.table import EPISODES, RUNS, add_rows
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -23,7 +24,7 @@ def _row(experiment: str, seed: int, success: float, task: str = TASK, episodes:
                 avg_steps_success=40.0, spl=0.7, avg_return=-10.0, converge_episode=1000, wall_clock_s=60.0,
                 train_s=55.0, eval_s=5.0, episodes_planned=episodes, episodes_done=episodes, curve_block=50,
                 curve_return=" ".join(str(-20 + i) for i in range(blocks)), curve_loss=" ".join(["nan"] + ["0.5"] * (blocks - 1)),
-                curve_success=" ".join(str(min(1.0, i / blocks)) for i in range(blocks)))
+                curve_success=" ".join(str(min(1.0, i / blocks)) for i in range(blocks)), **social_columns(None))
 
 
 def _groups(**rates) -> dict[str, list[dict]]:
@@ -36,8 +37,9 @@ def _clone(tmp_path: Path) -> Path:
     (tmp_path / "docs" / "results").mkdir(parents=True)
     for name in (RUNS, EPISODES):
         shutil.copy(ROOT / "results" / name, tmp_path / "results" / name)
-    for name in ("ceilings.json", "procedural_ceilings.json", "discussion.md"):
-        shutil.copy(ROOT / "docs" / "results" / name, tmp_path / "docs" / "results" / name)
+    for name in ("ceilings.json", "procedural_ceilings.json", "crowd_baselines.json", "discussion.md"):
+        if (ROOT / "docs" / "results" / name).is_file():
+            shutil.copy(ROOT / "docs" / "results" / name, tmp_path / "docs" / "results" / name)
     return tmp_path
 
 
@@ -182,3 +184,25 @@ def test_bad_inputs_are_refused_before_anything_is_written(tmp_path):
     assert not (tmp_path / "R.md").exists() and not (tmp_path / "docs").exists()
     with pytest.raises(SystemExit, match="error: no runs in"):
         main(["--table", str(tmp_path / "empty"), "--out", str(tmp_path / "R.md")])
+
+
+def test_the_crowd_table_sets_the_learned_navigator_beside_the_scripted_robots_and_crowdnav():
+    from agents.study.crowd import crowd_section
+
+    rows = [dict(_row("circle-crossing", s, rate, task="DynNav-Crowd-v1"), test_episodes=500, collision_rate=1 - rate,
+                 human_collision_rate=1 - rate, discomfort_frequency=d, personal_space_compliance=0.9,
+                 min_human_distance=0.3, time_to_goal=11.0)
+            for s, rate, d in ((1, 0.96, 0.04), (2, 0.98, 0.02))]
+    robots = {"orca_robot/DynNav-Crowd-v1 [humans=5,scenario=circle_crossing]": dict(
+        success=0.5, collision=0.5, timeout=0.0, episodes=500,
+        social=dict(human_collision_rate=0.5, discomfort_frequency=0.2, personal_space_compliance=0.6,
+                    min_human_distance=0.01, time_to_goal=12.5))}
+    lines = crowd_section(rows + [_row("5.3", 1, 0.9)], robots)
+    text = "\n".join(lines)
+    assert "## Crowds" in text and "CrowdNav's published success" in text and "ORCA 43%" in text
+    learned = next(line for line in lines if line.startswith("| `circle-crossing`"))
+    assert "| 2 x 500 | 97.0% | 3.0% | 0.0% | 3.0% | 0.030 | 0.900 | 0.30 | 11.0 |" in learned
+    robot = next(line for line in lines if line.startswith("| orca robot"))
+    assert "[humans=5,scenario=circle_crossing]" in robot and "| 1 x 500 | 50.0% | 50.0% |" in robot
+    assert "| 0.200 | 0.600 | 0.01 | 12.5 |" in robot
+    assert crowd_section([_row("5.3", 1, 0.9)], {}) == []  # no crowd: no section

@@ -1,0 +1,92 @@
+"""The report's crowd table: navigators among pedestrians beside the classical robots and CrowdNav's numbers.
+
+One row per experiment of the run table on ``DynNav-Crowd-v1`` (its own test, e.g.
+``configs/crowd/circle-crossing.yaml``): the mean over seeds of the test's success, collision and
+timeout rates and of its social metrics (``dynnav_tasks.crowd.metrics.aggregate``). Beside them,
+the scripted robots of ``docs/results/crowd_baselines.json`` (what ``python -m
+dynnav_tasks.baselines.crowd_robot ... --out`` and ``python -m dynnav_tasks.baselines.dwa ...
+--out`` write, one entry per controller and task options) and the success rates CrowdNav
+published for the same geometry (``CROWDNAV``).
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+CROWD_TASK = "DynNav-Crowd-v1"
+CROWDNAV = [("ORCA", 0.43), ("CADRL", 0.78), ("LSTM-RL", 0.95), ("SARL", 0.99)]
+"""CrowdNav's success rates with 5 humans crossing a circle of radius 4 m, the robot invisible to
+them (Chen et al. 2019, "Crowd-Robot Interaction", Table I; a holonomic robot at 1 m/s among
+humans at 1 m/s, 500 test episodes)"""
+METRICS = [("success", "success"), ("collision", "collision"), ("timeout", "timeout"),
+           ("human_collision_rate", "human collision"), ("discomfort_frequency", "discomfort"),
+           ("personal_space_compliance", "personal space"), ("min_human_distance", "min. distance (m)"),
+           ("time_to_goal", "time to goal (s)")]
+"""the table's columns: key of a results entry (or of its ``social``) and header"""
+
+
+def load_baselines(path: str | Path | None) -> dict[str, dict]:
+    """The scripted robots' entries of a results file (empty if there is none)."""
+    if path is None or not Path(path).is_file():
+        return {}
+    try:
+        data = json.loads(Path(path).read_text())
+        return {key: dict(v) for key, v in data.items() if isinstance(v, dict) and "success" in v}
+    except (ValueError, AttributeError, TypeError) as err:
+        raise ValueError(f"crowd baselines file {str(path)!r} is not what the baselines' --out writes: {err}")
+
+
+def _cell(key: str, value) -> str:
+    if value is None:
+        return "-"
+    if key in ("min_human_distance", "time_to_goal"):
+        return f"{value:.2f}" if key == "min_human_distance" else f"{value:.1f}"
+    if key in ("discomfort_frequency", "personal_space_compliance"):
+        return f"{value:.3f}"
+    return f"{value:.1%}"
+
+
+def _mean(values) -> float | None:
+    values = [v for v in values if v is not None]
+    return float(np.mean(values)) if values else None
+
+
+def crowd_section(rows: list[dict], baselines: dict[str, dict]) -> list[str]:
+    """The crowd section's Markdown lines (none without a crowd run or a crowd baseline)."""
+    runs: dict[str, list[dict]] = {}
+    for r in rows:
+        if r["task"] == CROWD_TASK and not r["tested_on"]:
+            runs.setdefault(r["experiment"], []).append(r)
+    robots = {k: v for k, v in baselines.items() if f"/{CROWD_TASK}" in k}
+    if not runs and not robots:
+        return []
+    lines = ["", "## Crowds", "",
+             f"Navigators among pedestrians on `{CROWD_TASK}` (docs/crowds.md): the learned ones (mean over seeds "
+             "of each seed's greedy test) and the scripted robots (`dynnav_tasks.baselines.crowd_robot`, "
+             "`dynnav_tasks.baselines.dwa`, on the continuous drive, from `docs/results/crowd_baselines.json`), "
+             "with the social metrics of `dynnav_tasks.crowd.metrics`: discomfort is the share of steps with a "
+             "pedestrian within 0.2 m of the robot's edge, personal space the share with none within 0.45 m.", "",
+             "| navigator | seeds x episodes | " + " | ".join(h for _, h in METRICS) + " |",
+             "|---|---|" + "---|" * len(METRICS)]
+    for name in sorted(runs):
+        group = runs[name]
+        values = {"success": _mean(r["success_rate"] for r in group),
+                  "collision": _mean(r["collision_rate"] for r in group),
+                  "timeout": _mean(r["timeout_rate"] for r in group)}
+        values.update({k: _mean(r[k] for r in group) for k, _ in METRICS[3:]})
+        size = f"{len(group)} x {group[0]['test_episodes']}"
+        lines.append(f"| `{name}` (DQN) | {size} | " + " | ".join(_cell(k, values[k]) for k, _ in METRICS) + " |")
+    for key in sorted(robots):
+        entry = robots[key]
+        social = entry.get("social") or {}
+        values = {k: entry.get(k, social.get(k)) for k, _ in METRICS}
+        controller, task = key.split("/", 1)
+        lines.append(f"| {controller.replace('_', ' ')} ({task.removeprefix(CROWD_TASK).strip()}) | "
+                     f"1 x {entry.get('episodes', '-')} | " + " | ".join(_cell(k, values[k]) for k, _ in METRICS) + " |")
+    lines += ["", "CrowdNav's published success in the same geometry (5 humans crossing a circle of radius 4 m, the "
+              "robot invisible to them; Chen et al. 2019, Table I, a holonomic robot): "
+              + ", ".join(f"{name} {rate:.0%}" for name, rate in CROWDNAV) + "."]
+    return lines
