@@ -37,7 +37,7 @@ def _clone(tmp_path: Path) -> Path:
     (tmp_path / "docs" / "results").mkdir(parents=True)
     for name in (RUNS, EPISODES):
         shutil.copy(ROOT / "results" / name, tmp_path / "results" / name)
-    for name in ("ceilings.json", "procedural_ceilings.json", "crowd_baselines.json", "discussion.md"):
+    for name in ("ceilings.json", "procedural_ceilings.json", "baselines.json", "discussion.md"):
         if (ROOT / "docs" / "results" / name).is_file():
             shutil.copy(ROOT / "docs" / "results" / name, tmp_path / "docs" / "results" / name)
     return tmp_path
@@ -187,7 +187,7 @@ def test_bad_inputs_are_refused_before_anything_is_written(tmp_path):
 
 
 def test_the_crowd_table_sets_the_learned_navigator_beside_the_scripted_robots_and_crowdnav():
-    from agents.study.crowd import crowd_section
+    from agents.study.baselines import crowd_section
 
     rows = [dict(_row("circle-crossing", s, rate, task="DynNav-Crowd-v1"), test_episodes=500, collision_rate=1 - rate,
                  human_collision_rate=1 - rate, discomfort_frequency=d, personal_space_compliance=0.9,
@@ -206,3 +206,15 @@ def test_the_crowd_table_sets_the_learned_navigator_beside_the_scripted_robots_a
     assert "[humans=5,scenario=circle_crossing]" in robot and "| 1 x 500 | 50.0% | 50.0% |" in robot
     assert "| 0.200 | 0.600 | 0.01 | 12.5 |" in robot
     assert crowd_section([_row("5.3", 1, 0.9)], {}) == []  # no crowd: no section
+
+
+def test_dwa_stands_beside_the_planner_in_each_study_world_it_ran_in():
+    from agents.study.baselines import dwa_section
+
+    baselines = {"dwa/DynNav-MovingObstacles-v1": dict(success=0.2, collision=0.7, timeout=0.1, episodes=200, spl=0.15),
+                 "dwa/DynNav-Crowd-v1 [humans=5]": dict(success=0.4, collision=0.6, timeout=0.0, episodes=500),
+                 "orca_robot/DynNav-Crowd-v1 [humans=5]": dict(success=0.5, collision=0.5, timeout=0.0)}
+    lines = dwa_section(baselines, {"DynNav-MovingObstacles-v1": 0.98})
+    assert "| DynNav-MovingObstacles-v1 | 200 | 20% | 70% | 10% | 0.15 | 98% |" in lines
+    assert not any("Crowd" in line and line.startswith("| DynNav") for line in lines)  # the crowd table's
+    assert dwa_section({k: v for k, v in baselines.items() if "Crowd" in k}, {}) == []

@@ -63,8 +63,10 @@ def _cell(on: str) -> tuple[str, str]:
     return str(options["difficulty"]), str(options["split"])
 
 
-def generalist_table(rows: list[dict], cells: dict[str, dict], ceilings: dict[str, float]) -> list[str]:
-    """Markdown lines of the generalist table ([] without a generalist row)."""
+def generalist_table(rows: list[dict], cells: dict[str, dict], ceilings: dict[str, float],
+                     baselines: dict[str, dict] | None = None) -> list[str]:
+    """Markdown lines of the generalist table ([] without a generalist row); ``baselines``: the
+    scripted controllers' results beyond the planner (``agents.study.baselines``), for DWA's row."""
     experiments = sorted({r["experiment"] for r in rows if r["experiment"].startswith(GENERALIST) and r["tested_on"]})
     if not experiments:
         return []
@@ -74,13 +76,18 @@ def generalist_table(rows: list[dict], cells: dict[str, dict], ceilings: dict[st
 
     def planner(controller: str) -> list[str]:
         values = [cells.get(f"{controller}/{d}/{s}", {}).get("success") for d, s in map(_cell, CELLS)]
-        study = [ceilings.get(STUDY[on]) if controller == "state_planner" else None for on in STUDY]
+        if controller == "state_planner":
+            study = [ceilings.get(STUDY[on]) for on in STUDY]
+        else:
+            study = [(baselines or {}).get(f"{controller}/{STUDY[on]}", {}).get("success") for on in STUDY]
         return [_pct(v) for v in values + study]
 
     lines.append("| full-state planner (the ceiling) | - | " + " | ".join(planner("state_planner")) + " |")
     if any(k.startswith("state_planner_tracked4/") for k in cells):
         lines.append("| planner seeing the 4 nearest boxes at constant velocity | - | "
                      + " | ".join(planner("state_planner_tracked4")) + " |")
+    if any(k.startswith("dwa/") for k in cells):
+        lines.append("| DWA on the laser scan (continuous drive) | - | " + " | ".join(planner("dwa")) + " |")
     per_difficulty, seeds = [], set()
     for on in columns:
         if on in STUDY:
@@ -121,14 +128,17 @@ def ablation_table(rows: list[dict]) -> list[str]:
     return lines
 
 
-def docs_tables(table: str | Path, ceilings: str | Path, procedural_ceilings: str | Path) -> str:
+def docs_tables(table: str | Path, ceilings: str | Path, procedural_ceilings: str | Path,
+                baselines: str | Path | None = None) -> str:
     """The block docs/generalist.md shows between ``<!-- tables -->`` and ``<!-- end tables -->``:
     the generalist table and the ablation table of the run table in ``table`` (what RESULTS.md shows)."""
+    from agents.study.baselines import load_baselines
     from agents.study.cells import load_ceilings, load_cells
     from agents.study.table import read_table
 
     rows = read_table(table)
-    generalist = generalist_table(rows, load_cells(procedural_ceilings), load_ceilings(ceilings))
+    generalist = generalist_table(rows, load_cells(procedural_ceilings), load_ceilings(ceilings),
+                                  load_baselines(baselines))
     ablation = ablation_table(rows)
     parts = []
     if generalist:
@@ -149,7 +159,7 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--table", default=str(root / "results"), help="run table folder (default results/)")
     args = parser.parse_args(argv)
     print(docs_tables(args.table, root / "docs" / "results" / "ceilings.json",
-                      root / "docs" / "results" / "procedural_ceilings.json"))
+                      root / "docs" / "results" / "procedural_ceilings.json", root / "docs" / "results" / "baselines.json"))
 
 
 if __name__ == "__main__":

@@ -174,11 +174,12 @@ def draw_generalization(episodes: list[dict], path: Path, experiments: set[str])
 
 
 def generalization_section(rows: list[dict], episodes: list[dict], cells: dict[str, dict],
-                           ceilings: dict[str, float], figure: Path | None, figure_link: str) -> list[str]:
+                           ceilings: dict[str, float], figure: Path | None, figure_link: str,
+                           baselines: dict[str, dict] | None = None) -> list[str]:
     """The section's Markdown lines ([] if the table holds no test with other options); draws the
-    figure into ``figure`` (None: no figure)."""
+    figure into ``figure`` (None: no figure); ``baselines``: DWA's results in the study worlds."""
     procedural, transfer = procedural_table(rows, cells), transfer_table(rows, ceilings)
-    generalist, ablation = generalist_table(rows, cells, ceilings), ablation_table(rows)
+    generalist, ablation = generalist_table(rows, cells, ceilings, baselines), ablation_table(rows)
     if not procedural and not transfer and not generalist:
         return []
     lines = ["", "## Generalization", ""]

@@ -28,8 +28,8 @@ docs/results/procedural_ceilings.json next to the report). The discussion of
 why the numbers differ from the study's is a page of its own (``--discussion``, default
 docs/results/discussion.md next to the report), linked, not pasted. Figures (``--figures``,
 default docs/results next to the report): agents/study/figures.py. Navigators among pedestrians
-get the crowd section (agents/study/crowd.py), with the scripted robots from
-``--crowd-baselines`` (default docs/results/crowd_baselines.json next to the report).
+get the crowd section and DWA in the study's worlds a table (agents/study/baselines.py), from
+``--baselines`` (default docs/results/baselines.json next to the report).
 """
 
 from __future__ import annotations
@@ -46,7 +46,7 @@ from agents.files import atomic_write_bytes
 from agents.study.cells import (cells_table, find_configs, format_ceiling, load_ceilings, load_cells, memory_section,
                                 short_of_seeds, study_rate, t975, wide_intervals)
 from agents.study.figures import SUCCESS_PANELS, block_size, caption, write_figures
-from agents.study.crowd import crowd_section, load_baselines
+from agents.study.baselines import crowd_section, dwa_section, load_baselines
 from agents.study.generalist import figures_of as generalist_figures
 from agents.study.generalization import generalization_section
 from agents.study.numbers import FIGURES, THESIS
@@ -186,14 +186,15 @@ def _relative(path: Path, start: Path) -> str:
 def write_report(table: str | Path = DEFAULT_TABLE, out: str | Path = "RESULTS.md", figures_dir: str | Path | None = None,
                  discussion: str | None = None, ceilings: str | Path | None = None,
                  configs: list[str | Path] | None = None, procedural_ceilings: str | Path | None = None,
-                 crowd_baselines: str | Path | None = None) -> Path:
+                 baselines: str | Path | None = None) -> Path:
     """Write the report and its figures from a table folder. ``discussion``: the discussion page's
     path relative to the report (default DISCUSSION, linked if the file is there); ``ceilings``: the
     planner's JSON (default docs/results/ceilings.json next to ``out``, if there); ``configs``:
     config files or folders of them, each listed if it has fewer than MIN_SEEDS runs;
     ``procedural_ceilings``: the procedural planner and floor (default
-    docs/results/procedural_ceilings.json next to ``out``, if there); ``crowd_baselines``: the
-    scripted robots among pedestrians (default docs/results/crowd_baselines.json next to ``out``).
+    docs/results/procedural_ceilings.json next to ``out``, if there); ``baselines``: DWA in the
+    study's worlds and the scripted robots among pedestrians (default docs/results/baselines.json
+    next to ``out``, if there).
     Everything is read and checked before anything is written."""
     out = Path(out)
     rows = read_table(table)
@@ -208,10 +209,10 @@ def write_report(table: str | Path = DEFAULT_TABLE, out: str | Path = "RESULTS.m
     cells = load_cells(procedural_ceilings if procedural_ceilings is not None
                        else out.parent / "docs" / "results" / "procedural_ceilings.json")
     episodes = read_table(table, episodes=True) if any(r["tested_on"] for r in rows) else []
-    if crowd_baselines is not None and not Path(crowd_baselines).is_file():
-        raise ValueError(f"crowd baselines file {str(crowd_baselines)!r} does not exist")
-    robots = load_baselines(crowd_baselines if crowd_baselines is not None
-                            else out.parent / "docs" / "results" / "crowd_baselines.json")
+    if baselines is not None and not Path(baselines).is_file():
+        raise ValueError(f"baselines file {str(baselines)!r} does not exist")
+    robots = load_baselines(baselines if baselines is not None
+                            else out.parent / "docs" / "results" / "baselines.json")
     if discussion is not None and not (out.parent / discussion).is_file():
         raise ValueError(f"discussion page {str(out.parent / discussion)!r} does not exist (the path is "
                          "relative to the report's folder)")
@@ -226,8 +227,8 @@ def write_report(table: str | Path = DEFAULT_TABLE, out: str | Path = "RESULTS.m
     inside = table_path.resolve().is_relative_to(out.parent.resolve())
     table_name = _relative(table_path, out.parent) if inside else table_path.as_posix()
     figure = figures_dir / "generalization.png"
-    extra = generalization_section(rows, episodes, cells, ceiling_rates, figure, _relative(figure, out.parent))
-    extra += crowd_section(rows, robots)
+    extra = generalization_section(rows, episodes, cells, ceiling_rates, figure, _relative(figure, out.parent), robots)
+    extra += dwa_section(robots, ceiling_rates) + crowd_section(rows, robots)
     text = render(groups, written, table_name, link, ceiling_rates, config_paths,
                   caption(block) if written else "", extra)
     atomic_write_bytes(out, text.encode())
@@ -249,16 +250,16 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--procedural-ceilings", default=None,
                         help="the procedural planner's and floor's rates per difficulty and split (their --out); "
                              "default docs/results/procedural_ceilings.json next to --out, if it exists")
-    parser.add_argument("--crowd-baselines", default=None,
-                        help="the scripted robots' results among pedestrians (crowd_robot and dwa --out); default "
-                             "docs/results/crowd_baselines.json next to --out, if it exists")
+    parser.add_argument("--baselines", default=None,
+                        help="DWA's and the crowd robots' results (dynnav_tasks.baselines.dwa and crowd_robot --out); default "
+                             "docs/results/baselines.json next to --out, if it exists")
     parser.add_argument("--configs", nargs="+", default=None, metavar="CONFIG",
                         help="config files or folders of them (searched recursively): list the configs with fewer "
                              "than 5 runs in the table")
     args = parser.parse_args(argv)
     try:
         out = write_report(args.table, args.out, args.figures, args.discussion, args.ceilings, args.configs,
-                           args.procedural_ceilings, args.crowd_baselines)
+                           args.procedural_ceilings, args.baselines)
     except (ValueError, OSError) as err:
         raise SystemExit(f"error: {err}")
     print(f"wrote {out}")

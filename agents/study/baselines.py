@@ -1,12 +1,18 @@
-"""The report's crowd table: navigators among pedestrians beside the classical robots and CrowdNav's numbers.
+"""The report's rows of scripted controllers beyond the planner: DWA in the study's worlds, and
+the crowd table, navigators among pedestrians beside the classical robots and CrowdNav's numbers.
 
-One row per experiment of the run table on ``DynNav-Crowd-v1`` (its own test, e.g.
+``docs/results/baselines.json`` holds what the controllers' ``--out`` writes (``python -m
+dynnav_tasks.baselines.dwa ...`` and ``python -m dynnav_tasks.baselines.crowd_robot ...``), one
+entry per controller, task and options: ``controller/task [options]``.
+
+``dwa_section``: DWA (the laser scan alone, continuous drive) in each of the study's worlds it
+was run in, beside the full-state planner's ceiling.
+
+``crowd_section``: one row per experiment of the run table on ``DynNav-Crowd-v1`` (its own test, e.g.
 ``configs/crowd/circle-crossing.yaml``): the mean over seeds of the test's success, collision and
 timeout rates and of its social metrics (``dynnav_tasks.crowd.metrics.aggregate``). Beside them,
-the scripted robots of ``docs/results/crowd_baselines.json`` (what ``python -m
-dynnav_tasks.baselines.crowd_robot ... --out`` and ``python -m dynnav_tasks.baselines.dwa ...
---out`` write, one entry per controller and task options) and the success rates CrowdNav
-published for the same geometry (``CROWDNAV``).
+the scripted robots' entries on that task and the success rates CrowdNav published for the same
+geometry (``CROWDNAV``).
 """
 
 from __future__ import annotations
@@ -39,6 +45,25 @@ def load_baselines(path: str | Path | None) -> dict[str, dict]:
         raise ValueError(f"crowd baselines file {str(path)!r} is not what the baselines' --out writes: {err}")
 
 
+def dwa_section(baselines: dict[str, dict], ceilings: dict[str, float]) -> list[str]:
+    """The DWA section's Markdown lines: one row per study world (none without a DWA entry there)."""
+    rows = sorted(k for k in baselines if k.startswith("dwa/") and not k.startswith(f"dwa/{CROWD_TASK}"))
+    if not rows:
+        return []
+    lines = ["", "## The classical local planner", "",
+             "DWA (`dynnav_tasks.baselines.dwa`: the dynamic window on the laser scan alone, on the continuous drive, "
+             "docs/baselines.md) in the study's worlds, beside the planner that sees the full state; the procedural "
+             "worlds' DWA row is in the generalist table above.", "",
+             "| world | episodes | success | collision | timeout | SPL | planner ceiling |", "|---|---|---|---|---|---|---|"]
+    for key in rows:
+        e, task = baselines[key], key.split("/", 1)[1]
+        ceiling = ceilings.get(task)
+        lines.append(f"| {task} | {e.get('episodes', '-')} | {e['success']:.0%} | {e.get('collision', 0):.0%} | "
+                     f"{e.get('timeout', 0):.0%} | {e.get('spl') or 0:.2f} | "
+                     + ("-" if ceiling is None else f"{ceiling:.0%}") + " |")
+    return lines
+
+
 def _cell(key: str, value) -> str:
     if value is None:
         return "-"
@@ -66,7 +91,7 @@ def crowd_section(rows: list[dict], baselines: dict[str, dict]) -> list[str]:
     lines = ["", "## Crowds", "",
              f"Navigators among pedestrians on `{CROWD_TASK}` (docs/crowds.md): the learned ones (mean over seeds "
              "of each seed's greedy test) and the scripted robots (`dynnav_tasks.baselines.crowd_robot`, "
-             "`dynnav_tasks.baselines.dwa`, on the continuous drive, from `docs/results/crowd_baselines.json`), "
+             "`dynnav_tasks.baselines.dwa`, on the continuous drive, from `docs/results/baselines.json`), "
              "with the social metrics of `dynnav_tasks.crowd.metrics`: discomfort is the share of steps with a "
              "pedestrian within 0.2 m of the robot's edge, personal space the share with none within 0.45 m.", "",
              "| navigator | seeds x episodes | " + " | ".join(h for _, h in METRICS) + " |",
