@@ -11,7 +11,8 @@ Importing the package registers every task with ManiSkill and gymnasium::
 ``dynnav_tasks.make`` does the same as ``gym.make`` and, for an unknown task id, lists the
 valid ones. ``TASK_IDS`` are the thesis's nine fixed worlds; ``PROCEDURAL_TASK_IDS`` the tasks
 that generate a new world every episode (``DynNav-Procedural-v1``); ``CROWD_TASK_IDS`` the tasks
-with pedestrians (``DynNav-Crowd-v1``). ``gym.make_vec(task_id, num_envs=n)`` gives observations of shape
+with pedestrians (``DynNav-Crowd-v1``); ``MAP_TASK_IDS`` those of a building's occupancy map
+(``DynNav-Map-v1``). ``gym.make_vec(task_id, num_envs=n)`` gives observations of shape
 ``(n, state size)``; gymnasium's "sync" and "async" modes do with
 ``wrappers=[dynnav_tasks.NumpyWrapper]`` (see ``registration.py``). ``outcome_of(info,
 terminated)`` names how an episode ended (``outcomes.py``).
@@ -35,16 +36,18 @@ PROCEDURAL_TASK_IDS = tuple(uid for uid in _NAV_TASKS if issubclass(REGISTERED_E
 """The tasks whose world is generated anew every episode (``tasks/procedural.py``)."""
 CROWD_TASK_IDS = tuple(uid for uid in _NAV_TASKS if issubclass(REGISTERED_ENVS[uid].cls, tasks.CrowdEnv))
 """The tasks of pedestrians crossing the robot's way (``tasks/crowd.py``)."""
-TASK_IDS = tuple(uid for uid in _NAV_TASKS if uid not in PROCEDURAL_TASK_IDS + CROWD_TASK_IDS)
+MAP_TASK_IDS = tuple(uid for uid in _NAV_TASKS if issubclass(REGISTERED_ENVS[uid].cls, tasks.MapEnv))
+"""The tasks that play a building's occupancy map (``tasks/building_map.py``)."""
+TASK_IDS = tuple(uid for uid in _NAV_TASKS if uid not in PROCEDURAL_TASK_IDS + CROWD_TASK_IDS + MAP_TASK_IDS)
 """The thesis's worlds, in its order (5.1, 5.2, 5.3, 5.4a-c, 5.5a-c): one fixed world each."""
 VISUAL_TASK_IDS = tuple(uid for uid in TASK_IDS if REGISTERED_ENVS[uid].cls.camera_world)
 """The camera worlds of the thesis (5.5a-c)."""
-ALL_TASK_IDS = TASK_IDS + PROCEDURAL_TASK_IDS + CROWD_TASK_IDS
+ALL_TASK_IDS = TASK_IDS + PROCEDURAL_TASK_IDS + CROWD_TASK_IDS + MAP_TASK_IDS
 """Every dynnav task id: the thesis's worlds, the procedural ones, the crowds."""
 register_with_gymnasium(ALL_TASK_IDS)
 
 __all__ = [
-    "ALL_TASK_IDS", "CROWD_TASK_IDS", "NavEnv", "NumpyWrapper", "OUTCOMES", "PROCEDURAL_TASK_IDS", "StepSnapshot", "TASK_IDS",
+    "ALL_TASK_IDS", "CROWD_TASK_IDS", "MAP_TASK_IDS", "NavEnv", "NumpyWrapper", "OUTCOMES", "PROCEDURAL_TASK_IDS", "StepSnapshot", "TASK_IDS",
     "VISUAL_TASK_IDS", "check_choice", "make", "outcome_of",
 ]
 

@@ -134,6 +134,15 @@ class World:
     """a crowd walking in the arena (``crowd.crowd``): upright cylinders the lasers and the camera
     see, moved each step by their motion model; touching one ends the episode as a human collision"""
 
+    @classmethod
+    def from_occupancy_map(cls, path, start=None, target=None, **options) -> "World":
+        """The world of a ROS ``map_server`` occupancy map (its YAML file): the map's occupied and
+        unknown cells as static boxes, a start and targets given or drawn in its free space, and
+        optionally moving boxes and pedestrians (``map_world.world_from_map`` lists the options)."""
+        from .map_world import world_from_map
+
+        return world_from_map(path, start, target, **options)
+
     def __post_init__(self):
         if not self.targets:
             raise ValueError("a World needs at least one target")

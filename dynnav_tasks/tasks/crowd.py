@@ -1,17 +1,14 @@
 import numbers
-from typing import Optional
 
-import gymnasium as gym
 import numpy as np
 from mani_skill.utils.registration import register_env
 
 from ..crowd.crowd import MODELS, SCENARIOS, Pedestrians
-from ..egocentric import egocentric_layout, egocentric_space, egocentric_state
 from ..errors import check_choice
 from ..motion import Static
 from ..nav_env import NavEnv
-from ..snapshot import StepSnapshot
 from ..world import Arena, StartArea, World
+from .egocentric_task import EgocentricTask
 
 MAX_HUMANS = 20
 """the most pedestrians a crowd task holds"""
@@ -40,7 +37,7 @@ def crowd_world(scenario: str = "circle_crossing", humans: int = 5, model: str =
 
 
 @register_env("DynNav-Crowd-v1", max_episode_steps=NavEnv.max_episode_steps)
-class CrowdEnv(NavEnv):
+class CrowdEnv(EgocentricTask, NavEnv):
     """
     **Task Description:**
     Cross a crowd of pedestrians to a static target, in CrowdNav's scenarios (Chen et al. 2019)
@@ -81,30 +78,8 @@ class CrowdEnv(NavEnv):
 
     def __init__(self, *args, scenario: str = "circle_crossing", humans: int = 5, model: str = "orca",
                  see_robot: bool = False, human_k: int = DEFAULT_HUMAN_K, **kwargs):
-        if isinstance(human_k, bool) or not isinstance(human_k, numbers.Integral) or not 0 <= human_k <= MAX_HUMANS:
-            raise ValueError(f"human_k must be an integer from 0 to {MAX_HUMANS} (the pedestrians the state "
-                             f"describes); got {human_k!r}")
+        self.set_egocentric_options(human_k=human_k)
         if not isinstance(see_robot, bool):
             raise ValueError(f"see_robot must be True or False; got {see_robot!r}")
         self.world = crowd_world(scenario, humans, model, see_robot)
-        self.human_k = int(human_k)
-        self._before: Optional[StepSnapshot] = None
         super().__init__(*args, **kwargs)
-
-    def _take_snapshot(self, step, contact, previous, placed=False) -> StepSnapshot:
-        # a simulated step: velocities from the snapshot before it, as the agent perceived it
-        self._before = self.observed_snapshot if contact is None else None
-        return super()._take_snapshot(step, contact, previous, placed)
-
-    def task_state_vector(self) -> np.ndarray:
-        """The egocentric state with ``human_k`` pedestrian slots (``egocentric.py``)."""
-        return egocentric_state(self.observed_snapshot, self._before, 0, None, self.human_k)
-
-    def task_state_space(self) -> gym.spaces.Box:
-        """Bounds of the egocentric state (``egocentric.egocentric_space``)."""
-        lasers = self._sensing.lasers
-        return egocentric_space(len(lasers.angles), lasers.max_range, 0, False, self.human_k)
-
-    def task_state_layout(self) -> list[tuple[str, int]]:
-        """Names and sizes of the parts of the egocentric state, in order."""
-        return egocentric_layout(len(self._sensing.lasers.angles), 0, False, self.human_k)

@@ -5,7 +5,6 @@ import numbers
 from dataclasses import replace
 from typing import Optional
 
-import gymnasium as gym
 import numpy as np
 import sapien
 from mani_skill.sensors.camera import CameraConfig
@@ -14,16 +13,14 @@ from mani_skill.utils.registration import register_env
 
 from .. import generation
 from ..generation.spec import ARENA_SIDE_RANGE
-from ..egocentric import egocentric_layout, egocentric_space, egocentric_state
 from ..errors import check_choice
 from ..nav_env import NavEnv
 from ..observations import OBS_MODES
 from ..scene import BuiltWorld
 from ..scene_pool import PoolSizes, ScenePool
-from ..snapshot import StepSnapshot
-from ..way_sense import WaySense
 from ..world import World
 from . import moving_obstacles
+from .egocentric_task import EgocentricTask
 
 DEFAULT_OBSTACLE_K = 4
 """moving obstacles in the egocentric state unless ``obstacle_k`` says otherwise"""
@@ -42,7 +39,7 @@ version (twice the boxes at 1.5 times their speed), each with the options that m
 
 
 @register_env("DynNav-Procedural-v1", max_episode_steps=NavEnv.max_episode_steps)
-class ProceduralEnv(NavEnv):
+class ProceduralEnv(EgocentricTask, NavEnv):
     """
     **Task Description:**
     A new generated world every episode (``dynnav_tasks.generation``): an arena of 6-20 m a
@@ -126,23 +123,14 @@ class ProceduralEnv(NavEnv):
         if self.difficulty == MIXED and self.split != "train":
             raise ValueError(f"difficulty='mixed' draws train worlds of every difficulty; split {self.split!r} needs "
                              f"one difficulty of {generation.DIFFICULTIES}")
-        if not isinstance(way, bool):
-            raise ValueError(f"way must be True or False (the way through the static layout in the state); got {way!r}")
-        self.way = way
         # a task-options string reads study_world=5.3 as the number 5.3: the name is its text
         study_world = str(study_world) if isinstance(study_world, (int, float)) and not isinstance(study_world, bool) \
             else study_world
         self.study_world = check_choice(study_world, ("", *STUDY_WORLDS), "study_world") if study_world else ""
-        if isinstance(obstacle_k, bool) or not isinstance(obstacle_k, numbers.Integral) or not (
-            0 <= obstacle_k <= generation.MAX_MOVING_OBSTACLES
-        ):
-            raise ValueError(f"obstacle_k must be an integer from 0 to {generation.MAX_MOVING_OBSTACLES} (the moving "
-                             f"obstacles the state describes); got {obstacle_k!r}")
-        self.obstacle_k = int(obstacle_k)
-        for name, value in (("pedestrians", pedestrians), ("human_k", human_k)):
-            if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not 0 <= value <= generation.MAX_PEDESTRIANS:
-                raise ValueError(f"{name} must be an integer from 0 to {generation.MAX_PEDESTRIANS}; got {value!r}")
-        self.human_k = int(human_k)
+        self.set_egocentric_options(obstacle_k, way, human_k)
+        if isinstance(pedestrians, bool) or not isinstance(pedestrians, numbers.Integral) \
+                or not 0 <= pedestrians <= generation.MAX_PEDESTRIANS:
+            raise ValueError(f"pedestrians must be an integer from 0 to {generation.MAX_PEDESTRIANS}; got {pedestrians!r}")
         crowd = dict(pedestrians=(int(pedestrians),) * 2,
                      pedestrian_model=check_choice(pedestrian_model, generation.PEDESTRIAN_MODELS, "pedestrian_model"))
         camera = "rgb" in check_choice(obs_mode or OBS_MODES[0], self.SUPPORTED_OBS_MODES, "obs_mode")
@@ -160,10 +148,8 @@ class ProceduralEnv(NavEnv):
         """the current world's seed (None for a world given in ``reset``'s options)"""
         self.world = generation.generate_world(self.world_spec, self.world_seed)
         """the current episode's world"""
-        self._way: Optional[WaySense] = None  # the current world's way sense (way=True), made on first use
         self._request: Optional[tuple] = None  # what reset's options asked for, checked
         self._reset_seed: Optional[int] = None
-        self._before: Optional[StepSnapshot] = None
         super().__init__(*args, obs_mode=obs_mode, **kwargs)
 
     # ------------------------------------------------------------------ choosing the world
@@ -261,36 +247,6 @@ class ProceduralEnv(NavEnv):
         for name in ("_pool", "_shown"):
             self.__dict__.pop(name, None)
         super().close()
-
-    # ------------------------------------------------------------------ observation
-    def _take_snapshot(self, step, contact, previous, placed=False) -> StepSnapshot:
-        # a simulated step: velocities from the snapshot before it, as the agent perceived it
-        self._before = self.observed_snapshot if contact is None else None
-        return super()._take_snapshot(step, contact, previous, placed)
-
-    def task_state_vector(self) -> np.ndarray:
-        """The egocentric state (``egocentric.py``), float32 of 19 + 5 ``obstacle_k`` values (22 + ...
-        with ``way``)."""
-        s = self.observed_snapshot
-        return egocentric_state(s, self._before, self.obstacle_k, self.way_reading(s) if self.way else None,
-                                self.human_k)
-
-    def way_reading(self, snapshot: StepSnapshot) -> tuple[float, float, float]:
-        """The way to the target through this world's static layout from ``snapshot``'s pose
-        (``way_sense.WaySense.read``: length, sin and cos of the bearing ahead on it)."""
-        if self._way is None:
-            self._way = WaySense(self.world)
-        x, y, yaw = snapshot.pose
-        return self._way.read(x, y, yaw, *snapshot.target_xy)
-
-    def task_state_space(self) -> gym.spaces.Box:
-        """Bounds of the egocentric state (``egocentric.egocentric_space``)."""
-        lasers = self._sensing.lasers
-        return egocentric_space(len(lasers.angles), lasers.max_range, self.obstacle_k, self.way, self.human_k)
-
-    def task_state_layout(self) -> list[tuple[str, int]]:
-        """Names and sizes of the parts of the egocentric state, in order."""
-        return egocentric_layout(len(self._sensing.lasers.angles), self.obstacle_k, self.way, self.human_k)
 
     # ------------------------------------------------------------------ top-down picture
     @property
