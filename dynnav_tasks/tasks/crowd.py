@@ -3,13 +3,15 @@ import numbers
 import numpy as np
 from mani_skill.utils.registration import register_env
 
-from ..crowd.crowd import MODELS, SCENARIOS, Pedestrians
+from ..crowd.crowd import MODELS, Pedestrians
 from ..errors import check_choice
 from ..motion import Static
 from ..nav_env import NavEnv
 from ..world import Arena, StartArea, World
 from .egocentric_task import EgocentricTask
 
+SCENARIOS = ("circle_crossing", "square_crossing", "corridor")
+"""the task's scenarios (``crowd.crowd.SCENARIOS`` less ``free_space``, which needs a static layout)"""
 MAX_HUMANS = 20
 """the most pedestrians a crowd task holds"""
 DEFAULT_HUMAN_K = 5

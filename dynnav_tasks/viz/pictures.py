@@ -40,6 +40,7 @@ OBSTACLE_PATH = (255, 140, 0)
 START_AREA = (255, 255, 255)
 PEDESTRIAN_GOAL = (150, 40, 110)
 CROWD_TASK = "DynNav-Crowd-v1"
+MAP_TASK = "DynNav-Map-v1"
 CROWD_STEPS = 8
 """steps of the crowd pictures' episode before the picture (the pedestrians under way)"""
 MARK_MIN_PX = 20
@@ -68,8 +69,9 @@ class Args:
     """folder to write <task>.png into"""
     seed: int = 0
     """reset seed of the pictured episode (the study's worlds)"""
-    worlds: Literal["all", "tasks", "procedural", "crowd"] = "all"
-    """which pictures: the study's tasks, the procedural sample worlds, the crowd's scenarios, or all"""
+    worlds: Literal["all", "tasks", "procedural", "crowd", "map"] = "all"
+    """which pictures: the study's tasks, the procedural sample worlds, the crowd's scenarios, the
+    office map, or all"""
 
 
 def _motion_lines(motion) -> list[np.ndarray]:
@@ -212,6 +214,21 @@ def crowd_picture(scenario: str, seed: int = 0, humans: int = 10) -> Image.Image
         env.close()
 
 
+def map_picture(seed: int = 0) -> Image.Image:
+    """The annotated top-down picture of the shipped office map with 3 moving boxes and 4
+    pedestrians, ``CROWD_STEPS`` steps into episode ``seed``, cropped to the arena."""
+    import dynnav_tasks
+
+    env = dynnav_tasks.NumpyWrapper(dynnav_tasks.make(MAP_TASK, moving_obstacles=3, pedestrians=4))
+    try:
+        env.reset(seed=seed)
+        for _ in range(CROWD_STEPS):
+            env.step(1)
+        return crop_to_arena(env, annotated_top_down(env))
+    finally:
+        env.close()
+
+
 def save_png(img: Image.Image, path: Path) -> None:
     """Write ``img`` to ``path`` as an optimised PNG, atomically (a temporary file beside it,
     renamed over it)."""
@@ -257,8 +274,14 @@ def main(args: Args) -> None:
     import dynnav_tasks
 
     args.out.mkdir(parents=True, exist_ok=True)
+    if args.worlds in ("all", "map"):
+        path = args.out / f"{MAP_TASK}-office.png"
+        save_png(map_picture(args.seed), path)
+        print(f"wrote {path}")
+    if args.worlds == "map":
+        return
     if args.worlds in ("all", "crowd"):
-        from dynnav_tasks.crowd.crowd import SCENARIOS
+        from dynnav_tasks.tasks.crowd import SCENARIOS
 
         for scenario in SCENARIOS:
             path = args.out / f"{CROWD_TASK}-{scenario}.png"
