@@ -198,3 +198,25 @@ def test_free_space_pedestrians_start_clear_of_the_boxes_and_head_only_for_goals
         for i in np.flatnonzero((crowd.goals != before).any(axis=1)):
             assert seen(crowd.positions[i], crowd.goals[i])
         assert all(gap(p, w) > 0.3 - 0.05 for p in crowd.positions for w in walls)
+
+
+def test_pedestrians_told_to_stop_stay_at_their_goals():
+    """``on_arrival="stop"`` (CrowdNav's humans): once across the circle each pedestrian stays at
+    its goal; with "renew" the same crowd walks back."""
+    from dynnav_tasks.crowd.crowd import Crowd, Pedestrians
+
+    for on_arrival in ("stop", "renew"):
+        crowd = Crowd(Pedestrians(3, model="orca", scenario="circle_crossing", on_arrival=on_arrival))
+        rng = np.random.default_rng(1)
+        crowd.reset(rng)
+        goals = crowd.goals.copy()
+        for _ in range(150):  # 30 s: 8 m across takes about 11 s at 0.75 m/s
+            crowd.step(0.2, rng)
+        if on_arrival == "stop":
+            np.testing.assert_array_equal(crowd.goals, goals)
+            assert (np.hypot(*(crowd.positions - goals).T) <= 0.3).all()
+            assert (np.hypot(*crowd.velocities.T) < 1e-6).all()
+        else:
+            assert not np.array_equal(crowd.goals, goals)
+    with pytest.raises(ValueError, match="on_arrival 'wander' is not one of renew, stop"):
+        Pedestrians(1, on_arrival="wander")

@@ -2,7 +2,7 @@
 social-force robot), on the continuous drive.
 
     python -m dynnav_tasks.baselines.crowd_robot --model orca --episodes 500 \
-        --options humans=5,scenario=circle_crossing --out docs/results/baselines.json
+        --options humans=5,scenario=circle_crossing,on_arrival=stop --out docs/results/baselines.json
 
 ``CrowdRobot`` plans as one more pedestrian would: from the pedestrians' places and velocities
 (the full state, as CrowdNav's baselines read it; the velocities from their last step) and the

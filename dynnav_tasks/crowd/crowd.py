@@ -24,6 +24,9 @@ goal. Scenarios (``SCENARIOS``), after CrowdNav (Chen et al. 2019):
     cannot get round; on arrival the next such goal (none found in ``MAX_DRAWS`` draws: back to
     where it came from). The boxes are those the task gives ``reset`` (its walls and blocks).
 
+With ``on_arrival="stop"`` a pedestrian that has arrived stays at its goal instead (a body at
+rest the others walk round), as CrowdNav's humans do.
+
 Every start keeps ``radius`` + ``radius`` + ``spacing`` from the others and from ``keep_clear``
 points (the robot's start and target), redrawn until it does (``PlacementError`` after
 ``MAX_DRAWS``). A pedestrian's preferred velocity points to its goal at ``preferred_speed``,
@@ -49,6 +52,8 @@ MODELS = ("social_force", "orca")
 """the motion models a crowd can follow"""
 SCENARIOS = ("circle_crossing", "square_crossing", "corridor", "free_space")
 """where the pedestrians start and where they head (module docstring)"""
+ON_ARRIVAL = ("renew", "stop")
+"""what a pedestrian does at its goal: take a new one, or stay"""
 MAX_DRAWS = 1000
 """draws per pedestrian before a crowd that does not fit is refused"""
 MIN_LEG = 1.0
@@ -91,6 +96,9 @@ class Pedestrians:
     """m: the least gap between two bodies at the start (CrowdNav's discomfort distance)"""
     time_horizon: float = 5.0
     """s: ORCA's horizon (CrowdNav's 5 s)"""
+    on_arrival: str = "renew"
+    """"renew": an arrived pedestrian takes its scenario's next goal; "stop": it stays at its goal
+    (CrowdNav's humans)"""
     see_robot: bool = False
     """whether the pedestrians avoid the robot (visible) or walk as if it were not there
     (invisible, CrowdNav's harder setting, where the robot must do all the avoiding)"""
@@ -99,6 +107,8 @@ class Pedestrians:
     def __post_init__(self):
         if self.model not in MODELS:
             raise ValueError(f"pedestrian model {self.model!r} is not one of {', '.join(MODELS)}")
+        if self.on_arrival not in ON_ARRIVAL:
+            raise ValueError(f"pedestrians' on_arrival {self.on_arrival!r} is not one of {', '.join(ON_ARRIVAL)}")
         if self.scenario not in SCENARIOS:
             raise ValueError(f"pedestrian scenario {self.scenario!r} is not one of {', '.join(SCENARIOS)}")
         if not (isinstance(self.count, int) and self.count >= 0):
@@ -263,6 +273,8 @@ class Crowd:
 
     def _next_goals(self, rng) -> None:
         s = self.spec
+        if s.on_arrival == "stop":
+            return
         arrived = np.hypot(*(self.goals - self.positions).T) <= s.goal_radius
         for i in np.flatnonzero(arrived):
             if s.scenario == "circle_crossing":

@@ -3,7 +3,7 @@ import numbers
 import numpy as np
 from mani_skill.utils.registration import register_env
 
-from ..crowd.crowd import MODELS, Pedestrians
+from ..crowd.crowd import MODELS, ON_ARRIVAL, Pedestrians
 from ..errors import check_choice
 from ..motion import Static
 from ..nav_env import NavEnv
@@ -19,23 +19,24 @@ DEFAULT_HUMAN_K = 5
 
 
 def crowd_world(scenario: str = "circle_crossing", humans: int = 5, model: str = "orca",
-                see_robot: bool = False) -> World:
+                see_robot: bool = False, on_arrival: str = "renew") -> World:
     """The world of ``DynNav-Crowd-v1`` with these options (the task's docstring gives the geometry)."""
     check_choice(scenario, SCENARIOS, "scenario")
     check_choice(model, MODELS, "model")
+    check_choice(on_arrival, ON_ARRIVAL, "on_arrival")
     if isinstance(humans, bool) or not isinstance(humans, numbers.Integral) or not 0 <= humans <= MAX_HUMANS:
         raise ValueError(f"humans must be an integer from 0 to {MAX_HUMANS}; got {humans!r}")
     if scenario == "corridor":
         return World(targets=(Static((5.0, 0.0)),), arena=Arena((-6.0, 6.0), (-1.5, 1.5)),
                      start=StartArea((-5.1, -4.9), (-0.1, 0.1), (-0.1, 0.1)),
                      pedestrians=Pedestrians(int(humans), model, scenario, square_width=12.0, corridor_width=3.0,
-                                             see_robot=bool(see_robot)))
+                                             see_robot=bool(see_robot), on_arrival=on_arrival))
     radius = 4.0 if humans <= 10 else 5.0  # a circle that keeps 20 pedestrians 0.2 m apart at the start
     side = 6.0 if scenario == "square_crossing" or humans <= 10 else 6.5
     return World(targets=(Static((0.0, 4.0)),), arena=Arena((-side, side), (-side, side)),
                  start=StartArea((-0.1, 0.1), (-4.1, -3.9), (np.pi / 2 - 0.1, np.pi / 2 + 0.1)),
                  pedestrians=Pedestrians(int(humans), model, scenario, circle_radius=radius, square_width=10.0,
-                                         see_robot=bool(see_robot)))
+                                         see_robot=bool(see_robot), on_arrival=on_arrival))
 
 
 @register_env("DynNav-Crowd-v1", max_episode_steps=NavEnv.max_episode_steps)
@@ -56,7 +57,9 @@ class CrowdEnv(EgocentricTask, NavEnv):
       robot drives from (-5, 0) to (5, 0).
     * options: ``humans`` (0-20, default 5), ``model`` ("orca" or "social_force"),
       ``see_robot`` (default False: the pedestrians do not see the robot, CrowdNav's invisible
-      setting), ``human_k`` (pedestrian slots in the state, default 5)
+      setting), ``on_arrival`` ("renew", default: an arrived pedestrian takes a new goal; "stop":
+      it stays at its goal, as CrowdNav's humans do), ``human_k`` (pedestrian slots in the state,
+      default 5)
     * state (``obs_mode="state"``): the egocentric state (``egocentric.py``): the lasers | target
       distance, sin and cos of its bearing | for each of the ``human_k`` nearest pedestrians its
       x, y, vx, vy relative to the robot in the robot's frame and its radius; 19 + 5 ``human_k``
@@ -79,9 +82,9 @@ class CrowdEnv(EgocentricTask, NavEnv):
     world = crowd_world()
 
     def __init__(self, *args, scenario: str = "circle_crossing", humans: int = 5, model: str = "orca",
-                 see_robot: bool = False, human_k: int = DEFAULT_HUMAN_K, **kwargs):
+                 see_robot: bool = False, on_arrival: str = "renew", human_k: int = DEFAULT_HUMAN_K, **kwargs):
         self.set_egocentric_options(human_k=human_k)
         if not isinstance(see_robot, bool):
             raise ValueError(f"see_robot must be True or False; got {see_robot!r}")
-        self.world = crowd_world(scenario, humans, model, see_robot)
+        self.world = crowd_world(scenario, humans, model, see_robot, on_arrival)
         super().__init__(*args, **kwargs)
