@@ -1,0 +1,3 @@
+from agents.benchmark.cli import main
+
+main()

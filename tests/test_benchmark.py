@@ -1,0 +1,113 @@
+"""dynnav-benchmark: a callable, a pretrained navigator and an SB3 model scored, the same seeds
+giving the same card twice, and every bad input a one-line error before any episode."""
+
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from agents.benchmark.cli import Args, main, plan
+from agents.benchmark.policies import BenchmarkError, PolicySpec
+from agents.benchmark.scoring import run_cells, score
+from agents.benchmark.suites import Cell, suite_cells
+
+HERE = Path(__file__).resolve().parent
+TASK = "DynNav-OneObstacle-v1"
+
+
+@pytest.fixture(autouse=True)
+def importable(monkeypatch):
+    monkeypatch.syspath_prepend(str(HERE))
+
+
+def test_a_callable_scores_the_same_seeds_the_same_way_twice_in_one_process_or_two(tmp_path):
+    cells = [Cell(TASK, {}, episodes=12)]
+    policy = PolicySpec("bench_policies:toward_target")
+    here = run_cells(policy, cells, workers=0, progress=False)
+    again = run_cells(policy, cells, workers=2, progress=False)
+    assert here == again and [r["seed"] for r in here[0]] == list(range(1_000_000, 1_000_012))
+    s = score(here[0])
+    assert s["episodes"] == 12 and s["success"] + s["collision"] + s["timeout"] == pytest.approx(1.0)
+    lo, hi = s["success_ci95"]
+    assert lo <= s["success"] <= hi
+    assert all((r["spl"] > 0) == (r["outcome"] == "success") for r in here[0])
+    import bench_policies
+    assert bench_policies.calls["reset"] >= 12  # the module's reset() before every episode
+
+
+def test_the_command_writes_a_card_with_its_command_version_and_references(tmp_path, capsys):
+    out = tmp_path / "card.json"
+    argv = ["--policy", "bench_policies:toward_target", "--task", TASK, "--episodes", "6", "--workers", "0",
+            "--out", str(out), "--no-progress"]
+    main(argv)
+    card = json.loads(out.read_text())
+    assert card["command"] == "dynnav-benchmark " + " ".join(argv) and card["suite"] == TASK
+    (cell,) = card["cells"]
+    assert cell["episodes"] == 6 and cell["references"]["planner"] is not None  # the planner's ceiling of 5.1
+    md = out.with_suffix(".md").read_text()
+    assert f"| {TASK} | 6 |" in md and "planner" in md
+    main(argv)  # the same seeds: the same card
+    assert json.loads(out.read_text()) == card
+
+
+def test_a_pretrained_navigator_scores_the_same_seeds_identically_twice():
+    cells = [Cell("DynNav-MovingObstacles-v1", {}, episodes=6)]
+    policy = PolicySpec("pretrained:5.3")
+    first = run_cells(policy, cells, workers=0, progress=False)
+    assert first == run_cells(policy, cells, workers=2, progress=False)
+    assert len(first[0]) == 6 and sum(r["outcome"] == "success" for r in first[0]) >= 5  # its card: 99%
+
+
+def test_a_stable_baselines3_model_is_scored(tmp_path):
+    sb3 = pytest.importorskip("stable_baselines3")
+    import dynnav_tasks
+
+    env = dynnav_tasks.NumpyWrapper(dynnav_tasks.make(TASK, control_mode="diff_drive_vel"))
+    model = sb3.PPO("MlpPolicy", env, n_steps=64, batch_size=32, seed=0, device="cpu")
+    model.learn(64)
+    model.save(tmp_path / "ppo.zip")
+    env.close()
+    policy = PolicySpec(str(tmp_path / "ppo.zip"), "ppo", dict(control_mode="diff_drive_vel"))
+    policy.check()
+    (records,) = run_cells(policy, [Cell(TASK, {}, episodes=3)], workers=0, progress=False)
+    assert len(records) == 3 and {r["outcome"] for r in records} <= {"success", "collision", "timeout"}
+    wrong = PolicySpec(str(tmp_path / "ppo.zip"), "ppo")  # the discrete drive's task reads differently
+    with pytest.raises(BenchmarkError, match=r"reads observations of shape \(26,\); DynNav-OneObstacle-v1 gives \(22,\)"):
+        run_cells(wrong, [Cell(TASK, {}, episodes=1)], workers=0, progress=False)
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--policy", "bench_policies:toward_target", "--suite", "city"], "unknown suite 'city'"),
+    (["--policy", "bench_policies:toward_target"], "give either --suite"),
+    (["--policy", "nothing_here:act", "--suite", "study"], "cannot import 'nothing_here'"),
+    (["--policy", "bench_policies:absent", "--suite", "study"], "has no function 'absent'"),
+    (["--policy", "just-a-name", "--suite", "study"], "is not a policy"),
+    (["--policy", "pretrained:nope", "--suite", "study"], "no pretrained model 'nope'"),
+    (["--policy", "model.zip", "--suite", "study"], "model.zip does not exist"),
+    (["--policy", "bench_policies:toward_target", "--task", "DynNav-Nowhere-v1"], "Unknown task id"),
+    (["--policy", "bench_policies:toward_target", "--task", TASK, "--episodes", "0"], "--episodes must be 1"),
+])
+def test_bad_input_is_a_one_line_error_before_any_episode(argv, message, tmp_path):
+    with pytest.raises(SystemExit, match=message) as info:
+        main(argv + ["--out", str(tmp_path / "c.json"), "--no-progress", "--workers", "0"])
+    assert "\n" not in str(info.value) and not (tmp_path / "c.json").exists()
+
+
+def test_an_action_that_does_not_fit_the_task_names_the_space(tmp_path):
+    with pytest.raises(SystemExit, match=r"action 7 does not fit DynNav-OneObstacle-v1's action space Discrete\(3\)"):
+        main(["--policy", "bench_policies:wrong_action", "--task", TASK, "--episodes", "1", "--workers", "0",
+              "--out", str(tmp_path / "c.json"), "--no-progress"])
+    with pytest.raises(SystemExit, match="plays DynNav-MovingObstacles-v1, not DynNav-OneObstacle-v1"):
+        main(["--policy", "pretrained:5.3", "--task", TASK, "--episodes", "1", "--workers", "0",
+              "--out", str(tmp_path / "c.json"), "--no-progress"])
+
+
+def test_the_suites_are_fixed():
+    assert len(suite_cells("study")) == 9 and all(c.episodes == 100 for c in suite_cells("study"))
+    proc = suite_cells("procedural")
+    assert [c.name for c in proc][:2] == ["DynNav-Procedural-v1 [difficulty=easy,split=test]",
+                                          "DynNav-Procedural-v1 [difficulty=easy,split=ood]"]
+    (crowd,) = suite_cells("crowd")
+    assert crowd.episodes == 500 and crowd.options == dict(scenario="circle_crossing", humans=5, on_arrival="stop")
