@@ -111,3 +111,25 @@ def test_the_suites_are_fixed():
                                           "DynNav-Procedural-v1 [difficulty=easy,split=ood]"]
     (crowd,) = suite_cells("crowd")
     assert crowd.episodes == 500 and crowd.options == dict(scenario="circle_crossing", humans=5, on_arrival="stop")
+
+
+def test_the_leaderboard_is_made_from_the_committed_cards_byte_for_byte(tmp_path):
+    from agents.benchmark.leaderboard import CARDS, PAGE, main as leaderboard, read_cards, render
+
+    assert render(read_cards(CARDS)) == PAGE.read_text(encoding="utf-8"), (
+        "docs/leaderboard.md differs from results/scorecards/: run python -m agents.benchmark.leaderboard")
+    (tmp_path / "bad.json").write_text('{"cells": []}')
+    with pytest.raises(SystemExit, match="bad.json is not a score card"):
+        leaderboard(["--cards", str(tmp_path), "--out", str(tmp_path / "page.md")])
+
+
+def test_a_card_is_a_row_of_its_suite_under_the_references(tmp_path):
+    from agents.benchmark.leaderboard import read_cards, render
+
+    out = tmp_path / "cards" / "mine.json"
+    main(["--policy", "bench_policies:toward_target", "--task", TASK, "--episodes", "3", "--workers", "0",
+          "--out", str(out), "--no-progress"])
+    page = render(read_cards(out.parent))
+    card = json.loads(out.read_text())
+    assert f"## {TASK}" in page and "| full-state planner (the ceiling) |" in page
+    assert f"| `bench_policies:toward_target` | {card['cells'][0]['success']:.0%} |" in page
