@@ -44,7 +44,7 @@ from .generation.spec import BLOCK_HALF, MAX_MOVING_OBSTACLES, MAX_PEDESTRIANS, 
 from .generation.validity import PATH_RADIUS, START_HALF, START_RADIUS
 from .motion import BackAndForth, Motion, RandomInRect, Route, Static
 from .occupancy_map import MapError, merge_boxes, read_map
-from .world import Arena, Obstacles, StartArea, World
+from .world import Arena, Obstacles, StartArea, World, install_map_reader
 
 MAX_MAP_SIDE = 40.0
 """metres: the longest side of a map the scene holds"""
@@ -216,3 +216,6 @@ def _start(layout: World, paths: WayGrid, regions: np.ndarray, start, rng, sourc
         raise MapError(f"{source}: the map has no place with {START_RADIUS:g} m clear around it for the start")
     i, j = cells[int(rng.integers(len(cells)))]
     return tuple(round(v, 3) for v in paths.center(int(i), int(j)))
+
+
+install_map_reader(world_from_map)

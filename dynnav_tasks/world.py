@@ -114,6 +114,16 @@ STANDARD_START = StartArea(x_range=(-0.9, -0.4), y_range=(-0.9, -0.4), yaw_range
 a robot never starts facing a wall it cannot turn away from in time."""
 
 
+_MAP_READER = None
+"""``map_world.world_from_map``, installed by ``install_map_reader`` when ``dynnav_tasks`` is imported"""
+
+
+def install_map_reader(reader) -> None:
+    """Make ``reader`` (``map_world.world_from_map``) what ``World.from_occupancy_map`` calls."""
+    global _MAP_READER
+    _MAP_READER = reader
+
+
 @dataclass(frozen=True)
 class World:
     """Everything a navigation task places in its scene.
@@ -138,10 +148,11 @@ class World:
     def from_occupancy_map(cls, path, start=None, target=None, **options) -> "World":
         """The world of a ROS ``map_server`` occupancy map (its YAML file): the map's occupied and
         unknown cells as static boxes, a start and targets given or drawn in its free space, and
-        optionally moving boxes and pedestrians (``map_world.world_from_map`` lists the options)."""
-        from .map_world import world_from_map
-
-        return world_from_map(path, start, target, **options)
+        optionally moving boxes and pedestrians (``map_world.world_from_map`` lists the options;
+        importing ``dynnav_tasks`` installs it here, as ``map_world`` builds on this module)."""
+        if _MAP_READER is None:
+            raise RuntimeError("import dynnav_tasks to read occupancy maps")
+        return _MAP_READER(path, start, target, **options)
 
     def __post_init__(self):
         if not self.targets:

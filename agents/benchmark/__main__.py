@@ -1,3 +1,6 @@
+"""``python -m agents.benchmark``: runs ``agents.benchmark.cli`` (the ``dynnav-benchmark`` command)."""
+
 from agents.benchmark.cli import main
 
-main()
+if __name__ == "__main__":
+    main()
