@@ -56,6 +56,7 @@ Step
 
 from __future__ import annotations
 
+import copy
 from typing import Any, ClassVar, Optional
 
 import gymnasium as gym
@@ -519,6 +520,25 @@ class NavEnv(Observations, TopDownView, BaseEnv):
             body.set_kinematic_target(pose)
         prev = self.snapshot
         self._snapshot = self._take_snapshot(step=prev.step, contact=False, previous=prev, placed=True)
+
+    def pedestrian_forecast(self, steps: int) -> np.ndarray:
+        """(steps + 1, n, 2): where the pedestrians are now and after each of the next ``steps``
+        control steps if the robot were not there: their motion model stepped forward on a copy
+        of the crowd (and of the random generator). Exact for pedestrians blind to the robot that
+        stop at their goals; a goal drawn on the way may differ from the one the episode draws.
+        (0, 0, 2)-shaped slices without pedestrians."""
+        crowd = self._crowd
+        if crowd is None:
+            return np.zeros((steps + 1, 0, 2))
+        ghost, rng = copy.deepcopy(crowd), copy.deepcopy(self.np_random)
+        out = np.empty((steps + 1, crowd.spec.count, 2))
+        out[0] = crowd.positions
+        boxes = self._crowd_boxes
+        if len(self._moving_xy):
+            boxes = np.vstack([boxes, np.hstack([self._moving_xy - self._moving_half, self._moving_xy + self._moving_half])])
+        for k in range(1, steps + 1):
+            out[k] = ghost.step(1.0 / self._control_freq, rng, robot=None, boxes=boxes)
+        return out
 
     def place_robot(self, x: float, y: float, yaw: float):
         """Teleport the robot (for tests and tools) and take a new snapshot (same step, same

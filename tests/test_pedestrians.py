@@ -180,3 +180,46 @@ def test_a_crowd_baselines_results_file_holds_its_social_metrics(tmp_path):
     with pytest.raises(SystemExit, match="DynNav-Crowd-v1 has no option 'humanz'"):
         main(Args(episodes=1, options="humanz=3", out=str(tmp_path / "no.json")))
     assert not (tmp_path / "no.json").exists()
+
+
+def test_the_pedestrian_forecast_is_where_a_blind_crowd_walks():
+    """Pedestrians blind to the robot and stopping at their goals walk where the forecast said,
+    whatever the robot does (here: turning in place)."""
+    env = dynnav_tasks.NumpyWrapper(gym.make("DynNav-Crowd-v1", humans=5, on_arrival="stop"))
+    try:
+        env.reset(seed=2)
+        forecast = env.unwrapped.pedestrian_forecast(12)
+        seen = [env.unwrapped.snapshot.human_xy.copy()]
+        for _ in range(12):
+            env.step(LEFT)
+            seen.append(env.unwrapped.snapshot.human_xy.copy())
+        np.testing.assert_allclose(np.array(seen), forecast, atol=1e-9)
+    finally:
+        env.close()
+
+
+def test_the_full_state_planner_waits_for_a_pedestrian_that_a_straight_drive_hits():
+    """The head-on pedestrian of the ORCA robot's test, with the discrete drive: driving straight
+    collides; the planner, forecasting the pedestrian, reaches the target without touching it."""
+    from dynnav_tasks.baselines.state_planner import PlannerController
+
+    world = World(targets=(Static((4.0, 0.0)),), arena=Arena((-5.0, 5.0), (-5.0, 5.0)), start=START,
+                  pedestrians=Pedestrians(1, scenario="corridor", corridor_width=9.0, on_arrival="stop"))
+    register_env("TestPlannerHeadOn-v1", max_episode_steps=200)(type("TestPlannerHeadOn", (NavEnv,), {"world": world}))
+    env = dynnav_tasks.NumpyWrapper(gym.make("TestPlannerHeadOn-v1"))
+    try:
+        outcomes = {}
+        for driver in ("straight", "planner"):
+            env.reset(seed=0)
+            env.unwrapped.place_pedestrians([(3.0, 0.05)], goals=[(-3.0, 0.05)])
+            planner = PlannerController()
+            planner.start(env.unwrapped)
+            done = False
+            while not done:
+                action = 0 if driver == "straight" else planner.act(env.unwrapped)
+                _, _, terminated, truncated, info = env.step(action)
+                done = terminated or truncated
+            outcomes[driver] = dynnav_tasks.outcome_of(info, terminated), bool(info["human_collision"])
+        assert outcomes == {"straight": ("collision", True), "planner": ("success", False)}
+    finally:
+        env.close()

@@ -28,6 +28,10 @@ towards where that way leads, so that the search follows corridors and doorways 
 pushing at the wall between the robot and the target. There the collision check looks only at
 the blocks near each point (``way_grid.StaticBuckets``), which gives the same answer.
 
+Pedestrians (``world.pedestrians``) are forecast by their own motion model stepped forward on a
+copy of the crowd (``NavEnv.pedestrian_forecast``: exact for pedestrians blind to the robot that
+stop at their goals), each kept clear of as a box round its body, swept between steps.
+
 ``PlannerController`` drives a task with it from the task's public state (``snapshot``,
 ``world``), planning anew for each episode's world; ``run_planner`` plays episodes.
 """
@@ -211,15 +215,19 @@ class StatePlanner:
 
         return h
 
-    def act(self, state: np.ndarray, yaw: float) -> int:
+    def act(self, state: np.ndarray, yaw: float, humans: Optional[np.ndarray] = None, human_radius: float = 0.0) -> int:
         """The first action of the best plan from ``state`` (the task's state vector) and the
-        robot's heading ``yaw`` (rad)."""
+        robot's heading ``yaw`` (rad); ``humans``: the pedestrians' forecast centres
+        (``NavEnv.pedestrian_forecast``, at least ``horizon`` + 1 steps), kept clear of as boxes
+        of half side ``human_radius`` swept between steps, as the moving boxes are."""
         n = len(state) - 4 - 2 * self.world.moving_obstacle_count  # laser readings: 16 unless laser_rays says
         x0, y0 = float(state[n]), float(state[n + 1])
         tx, ty = float(state[n + 2]), float(state[n + 3])
         moving = np.asarray(state[n + 4:], float).reshape(-1, 2)
         boxes = (self.forecast.boxes(moving, self.horizon, robot=(x0, y0)) if len(moving)
                  else np.zeros((self.horizon + 1, 0, 2, 2)))
+        if humans is not None and humans.shape[1]:
+            boxes = np.concatenate([boxes, _swept_circles(humans[:self.horizon + 1], human_radius)], axis=1)
         boxes = [step.reshape(-1, 4).tolist() for step in boxes]  # per step: [lo_x, lo_y, hi_x, hi_y] per box
 
         def h(x, y, yaw_):
@@ -259,6 +267,14 @@ class StatePlanner:
         return LEFT  # boxed in: turning in place sweeps least
 
 
+def _swept_circles(centres: np.ndarray, radius: float) -> np.ndarray:
+    """(k + 1, n, 2, 2) boxes round circles of ``radius`` at ``centres`` (k + 1, n, 2), step k >= 1
+    covering steps k - 1 and k (as ``ObstacleForecast.boxes``)."""
+    lo, hi = centres - radius, centres + radius
+    lo[1:], hi[1:] = np.minimum(lo[:-1], lo[1:]), np.maximum(hi[:-1], hi[1:])
+    return np.stack([lo, hi], axis=2)
+
+
 class PlannerController:
     """Drives a task with a ``StatePlanner`` built for each episode's world (``run_episodes``'s
     controller): it reads the task's ``world`` and ``snapshot`` (the study's state vector, which
@@ -277,9 +293,14 @@ class PlannerController:
         self.planner.reset()
 
     def act(self, env) -> int:
-        """The planner's action for the task's current snapshot."""
+        """The planner's action for the task's current snapshot (and, among pedestrians, their
+        forecast: ``NavEnv.pedestrian_forecast``)."""
         s = env.snapshot
-        return self.planner.act(s.state_vector(), s.pose[2])
+        walkers = env.world.pedestrians
+        if walkers is None or not walkers.count:
+            return self.planner.act(s.state_vector(), s.pose[2])
+        return self.planner.act(s.state_vector(), s.pose[2], env.pedestrian_forecast(self.planner.horizon),
+                                walkers.radius)
 
 
 def run_planner(task_id: str, seeds, progress: bool = False, label: Optional[str] = None, task_kwargs=None,
@@ -293,13 +314,13 @@ def run_planner(task_id: str, seeds, progress: bool = False, label: Optional[str
 class Args:
     task: Optional[str] = None
     """task to plan in (default: every study task); DynNav-Procedural-v1 runs its difficulties
-    and splits"""
+    and splits; DynNav-Crowd-v1 and DynNav-Map-v1 take their options from --task-options"""
     difficulty: Optional[str] = None
     """with a procedural task: "easy", "medium" or "hard" (default: each)"""
     split: Optional[str] = None
     """with a procedural task: "train", "test" or "ood" (default: each)"""
     task_options: Optional[str] = None
-    """with a study task: its options as key=value,... (e.g. obstacle_count=4,obstacle_speed_scale=1.5
+    """with a task that is not procedural: its options as key=value,... (e.g. obstacle_count=4,obstacle_speed_scale=1.5
     for 5.3's transfer test); the --out entry is then named "<task> [<options>]" """
     episodes: int = 200
     """episodes per task (seeds first_seed .. first_seed + episodes - 1)"""
@@ -321,7 +342,7 @@ class Args:
 
 def main(args: Args) -> None:
     """Run the planner over the tasks (or a procedural task's difficulties and splits) ``args`` names."""
-    from dynnav_tasks import PROCEDURAL_TASK_IDS, TASK_IDS
+    from dynnav_tasks import CROWD_TASK_IDS, MAP_TASK_IDS, PROCEDURAL_TASK_IDS, TASK_IDS
     from dynnav_tasks.baselines.cli import run_over_cells, run_over_tasks
 
     planner = dict(max_expansions=args.max_expansions, remember=not args.memoryless, tracked=args.tracked)
@@ -344,9 +365,10 @@ def main(args: Args) -> None:
             options = parse_task_options(args.task_options)
         except ValueError as err:
             raise SystemExit(f"error: {err}")
-    run_over_tasks(args.task, TASK_IDS, "task id", args.episodes, args.first_seed,
+    others = CROWD_TASK_IDS + MAP_TASK_IDS  # their entries name the planner, as the other controllers' do
+    run_over_tasks(args.task, TASK_IDS + others, "task id", args.episodes, args.first_seed,
                    lambda task, seeds: run_planner(task, seeds, progress=True, task_kwargs=options, **planner),
-                   out=args.out, options=options)
+                   out=args.out, options=options, controller="state_planner" if args.task in others else None)
 
 
 if __name__ == "__main__":
