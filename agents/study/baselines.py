@@ -27,6 +27,9 @@ CROWDNAV = [("ORCA", 0.43), ("CADRL", 0.78), ("LSTM-RL", 0.95), ("SARL", 0.99)]
 """CrowdNav's success rates with 5 humans crossing a circle of radius 4 m, the robot invisible to
 them (Chen et al. 2019, "Crowd-Robot Interaction", Table I; a holonomic robot at 1 m/s among
 humans at 1 m/s, 500 test episodes)"""
+CONTROLLERS = {"state_planner": "full-state planner (discrete drive, forecasts the pedestrians)",
+               "orca_robot": "ORCA robot", "social_force_robot": "social-force robot", "dwa": "DWA (laser scan)"}
+"""the scripted controllers' names in the table"""
 METRICS = [("success", "success"), ("collision", "collision"), ("timeout", "timeout"),
            ("human_collision_rate", "human collision"), ("discomfort_frequency", "discomfort"),
            ("personal_space_compliance", "personal space"), ("min_human_distance", "min. distance (m)"),
@@ -88,12 +91,14 @@ def crowd_section(rows: list[dict], baselines: dict[str, dict]) -> list[str]:
     robots = {k: v for k, v in baselines.items() if f"/{CROWD_TASK}" in k}
     if not runs and not robots:
         return []
+    settings = {key.split("/", 1)[1].removeprefix(CROWD_TASK).strip() for key in robots}
     lines = ["", "## Crowds", "",
              f"Navigators among pedestrians on `{CROWD_TASK}` (docs/crowds.md): the learned ones (mean over seeds "
              "of each seed's greedy test) and the scripted robots (`dynnav_tasks.baselines.crowd_robot`, "
              "`dynnav_tasks.baselines.dwa`, on the continuous drive, from `docs/results/baselines.json`), "
              "with the social metrics of `dynnav_tasks.crowd.metrics`: discomfort is the share of steps with a "
-             "pedestrian within 0.2 m of the robot's edge, personal space the share with none within 0.45 m.", "",
+             "pedestrian within 0.2 m of the robot's edge, personal space the share with none within 0.45 m. "
+             "The scripted rows' settings: " + ", ".join(f"`{s}`" for s in sorted(settings) if s) + ".", "",
              "| navigator | seeds x episodes | " + " | ".join(h for _, h in METRICS) + " |",
              "|---|---|" + "---|" * len(METRICS)]
     for name in sorted(runs):
@@ -104,13 +109,16 @@ def crowd_section(rows: list[dict], baselines: dict[str, dict]) -> list[str]:
         values.update({k: _mean(r[k] for r in group) for k, _ in METRICS[3:]})
         size = f"{len(group)} x {group[0]['test_episodes']}"
         lines.append(f"| `{name}` (DQN) | {size} | " + " | ".join(_cell(k, values[k]) for k, _ in METRICS) + " |")
-    for key in sorted(robots):
+    for key in sorted(robots, key=lambda k: (-robots[k]["success"], k)):
         entry = robots[key]
         social = entry.get("social") or {}
         values = {k: entry.get(k, social.get(k)) for k, _ in METRICS}
         controller, task = key.split("/", 1)
-        lines.append(f"| {controller.replace('_', ' ')} ({task.removeprefix(CROWD_TASK).strip()}) | "
-                     f"1 x {entry.get('episodes', '-')} | " + " | ".join(_cell(k, values[k]) for k, _ in METRICS) + " |")
+        name = CONTROLLERS.get(controller, controller.replace("_", " "))
+        if len(settings) > 1:
+            name += f" {task.removeprefix(CROWD_TASK).strip()}"
+        lines.append(f"| {name} | 1 x {entry.get('episodes', '-')} | "
+                     + " | ".join(_cell(k, values[k]) for k, _ in METRICS) + " |")
     lines += ["", "CrowdNav's published success in the same geometry (5 humans crossing a circle of radius 4 m, the "
               "robot invisible to them; Chen et al. 2019, Table I, a holonomic robot): "
               + ", ".join(f"{name} {rate:.0%}" for name, rate in CROWDNAV) + "."]
