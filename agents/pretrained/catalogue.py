@@ -36,7 +36,7 @@ class Source:
     seed: int
     """its seed with the best test success in the run table"""
     success: float
-    """that run's test success in the run table (100 test episodes)"""
+    """that run's test success in the run table (100 test episodes of its own test)"""
     wall_s: float
     """that run's recorded training time in seconds"""
     folder: str = "study"
@@ -45,6 +45,9 @@ class Source:
     """whether the run trains in the fast mode (``--fast``)"""
     before: str = ""
     """the command whose run this one starts from (its ``demos`` settings find it), if any"""
+    tested_on: str = ""
+    """the task options of the run's own test (its row's ``tested_on``): empty for the study's
+    runs, which test on their own task as it is"""
 
     @property
     def config(self) -> Path:
@@ -79,6 +82,9 @@ CELLS: dict[str, Source] = {
     "5.5c-frames-1": Source("5.5c-frames-1-g0.1", 1, 0.78, 808),
     "5.5c-frames-2": Source("5.5c-frames-2-g0.1", 4, 0.79, 1818),
     "5.5c-frames-4": Source("5.5c-frames-4-g0.1-gru", 3, 0.93, 1747),
+    "procedural": Source("generalist-finetune", 1, 0.76, 540, folder="procedural", fast=True,
+                         before="python -m agents.imitation --config configs/imitation/generalist.yaml --seed 1",
+                         tested_on="difficulty=medium,split=test"),
 }
 """cell -> the run its model is trained as"""
 

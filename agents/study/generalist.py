@@ -44,6 +44,20 @@ def figures_of(groups: dict[str, list[dict]]) -> list:
     return FIGURES if any(e.startswith(GENERALIST) for e in groups) else []
 
 
+def runs_once(rows: list[dict]) -> dict[str, list[dict]]:
+    """experiment -> one row per run, in seed order, whatever the run was tested on: a run's
+    learning curves are in each of its rows (the procedural runs have no row of their own task
+    as it is, every test of theirs names its options)."""
+    groups: dict[str, list[dict]] = {}
+    seen = set()
+    for r in sorted(rows, key=lambda r: (r["experiment"], r["seed"], r["config_hash"], r["tested_on"])):
+        key = (r["experiment"], r["config_hash"], r["seed"])
+        if key not in seen:
+            seen.add(key)
+            groups.setdefault(r["experiment"], []).append(r)
+    return groups
+
+
 def is_shown_here(experiment: str) -> bool:
     """Whether an experiment's rows belong to these tables (not the per-difficulty table)."""
     return experiment.startswith(GENERALIST) or experiment.startswith(ABLATION)

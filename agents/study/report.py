@@ -48,6 +48,7 @@ from agents.study.cells import (cells_table, find_configs, format_ceiling, load_
 from agents.study.figures import SUCCESS_PANELS, block_size, caption, write_figures
 from agents.study.baselines import crowd_section, dwa_section, load_baselines
 from agents.study.generalist import figures_of as generalist_figures
+from agents.study.generalist import runs_once
 from agents.study.generalization import generalization_section
 from agents.study.numbers import FIGURES, THESIS
 from agents.study.table import DEFAULT_TABLE, RUNS, read_table
@@ -219,10 +220,11 @@ def write_report(table: str | Path = DEFAULT_TABLE, out: str | Path = "RESULTS.m
     link = discussion if discussion is not None else DISCUSSION if (out.parent / DISCUSSION).is_file() else None
     groups = group_runs(rows)
     block = block_size(rows)  # one curve block for every figure, checked before anything is written
+    curves = runs_once(rows)  # every run once, for the figures of runs tested with options only
     figures_dir = Path(figures_dir) if figures_dir else out.parent / "docs" / "results"
     out.parent.mkdir(parents=True, exist_ok=True)
     written = [(_relative(p, out.parent), title) for p, title in write_figures(groups, FIGURES, figures_dir)
-               + write_figures(groups, generalist_figures(groups), figures_dir, SUCCESS_PANELS)]
+               + write_figures(curves, generalist_figures(curves), figures_dir, SUCCESS_PANELS)]
     table_path = Path(table) / RUNS
     inside = table_path.resolve().is_relative_to(out.parent.resolve())
     table_name = _relative(table_path, out.parent) if inside else table_path.as_posix()
