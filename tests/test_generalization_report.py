@@ -207,5 +207,5 @@ def test_the_generalist_page_shows_the_tables_of_the_run_table():
     shown = re.search(r"<!-- tables -->\n(.*?)\n<!-- end tables -->", page, re.DOTALL)
     assert shown, "docs/generalist.md lacks the <!-- tables --> ... <!-- end tables --> block"
     made = docs_tables(root / "results", root / "docs" / "results" / "ceilings.json",
-                       root / "docs" / "results" / "procedural_ceilings.json")
+                       root / "docs" / "results" / "procedural_ceilings.json", root / "docs" / "results" / "baselines.json")
     assert shown[1].strip() == made.strip(), "paste `python -m agents.study.generalist` into docs/generalist.md"
