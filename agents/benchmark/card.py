@@ -35,15 +35,23 @@ def _json(name: str) -> dict:
     return json.loads(path.read_text()) if path.is_file() else {}
 
 
+SCRIPTED = ("dwa", "orca_robot", "social_force_robot")
+"""the classical controllers whose success a card shows beside the planner's and the floor's"""
+
+
 def references(cell: Cell) -> dict:
-    """The planner's and the floor's success in ``cell``, where measured (else None)."""
+    """The success in ``cell`` of the planner, the floor and the classical controllers, where
+    measured (else None)."""
     if cell.task == "DynNav-Procedural-v1" and {"difficulty", "split"} <= set(cell.options):
         cells = _json("procedural_ceilings.json")
         key = f"{cell.options['difficulty']}/{cell.options['split']}"
         get = lambda who: (cells.get(f"{who}/{key}") or {}).get("success")  # noqa: E731
-        return dict(planner=get("state_planner"), go_to_target=get("go_to_target"))
+        return dict(planner=get("state_planner"), go_to_target=get("go_to_target"), **{w: get(w) for w in SCRIPTED})
+    scripted = _json("baselines.json")
+    get = lambda who: (scripted.get(f"{who}/{cell.name}") or {}).get("success")  # noqa: E731
     ceiling = _json("ceilings.json").get(cell.name)
-    return dict(planner=ceiling.get("success") if ceiling else None, go_to_target=None)
+    planner = ceiling.get("success") if ceiling else get("state_planner")
+    return dict(planner=planner, go_to_target=None, **{w: get(w) for w in SCRIPTED})
 
 
 def make_card(policy: str, algo: Optional[str], suite: str, cells: list[Cell], scores: list[dict],

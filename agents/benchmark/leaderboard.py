@@ -19,7 +19,9 @@ from agents.files import atomic_write_bytes
 ROOT = Path(__file__).resolve().parents[2]
 CARDS = ROOT / "results" / "scorecards"
 PAGE = ROOT / "docs" / "leaderboard.md"
-REFERENCES = (("planner", "full-state planner (the ceiling)"), ("go_to_target", "go to target (the floor)"))
+REFERENCES = (("planner", "full-state planner (the ceiling)"), ("go_to_target", "go to target (the floor)"),
+              ("dwa", "DWA on the laser scan (continuous drive)"), ("orca_robot", "ORCA robot (continuous drive)"),
+              ("social_force_robot", "social-force robot (continuous drive)"))
 
 
 def read_cards(folder: Path) -> list[dict]:
@@ -63,8 +65,8 @@ def render(cards: list[dict]) -> str:
         lines += [f"## {suite}", "", f"{len(names)} cell(s), {episodes} episodes each (success rate).", "",
                   "| navigator | " + " | ".join(_label(n) for n in names) + " |", "|---|" + "---|" * len(names)]
         for key, label in REFERENCES:
-            values = [next((c["references"].get(key) for card in group for c in card["cells"] if c["name"] == n), None)
-                      for n in names]
+            values = [next((c["references"].get(key) for card in group for c in card["cells"]
+                            if c["name"] == n and c["references"].get(key) is not None), None) for n in names]
             if any(v is not None for v in values):
                 lines.append(f"| {label} | " + " | ".join(_pct(v) for v in values) + " |")
         for card in sorted(group, key=lambda c: -sum(x["success"] for x in c["cells"])):
