@@ -202,24 +202,21 @@ def write_sample_worlds(out: Path, samples: dict = SAMPLE_WORLDS, size: int = SA
 def crowd_picture(scenario: str, seed: int = 0, humans: int = 10) -> Image.Image:
     """The annotated top-down picture of the crowd task's ``scenario`` with ``humans`` pedestrians,
     ``CROWD_STEPS`` steps into episode ``seed`` (the robot turning in place), cropped to the arena."""
-    import dynnav_tasks
-
-    env = dynnav_tasks.NumpyWrapper(dynnav_tasks.make(CROWD_TASK, scenario=scenario, humans=humans))
-    try:
-        env.reset(seed=seed)
-        for _ in range(CROWD_STEPS):
-            env.step(1)
-        return crop_to_arena(env, annotated_top_down(env))
-    finally:
-        env.close()
+    return _picture_after_steps(CROWD_TASK, seed, scenario=scenario, humans=humans)
 
 
 def map_picture(seed: int = 0) -> Image.Image:
     """The annotated top-down picture of the shipped office map with 3 moving boxes and 4
     pedestrians, ``CROWD_STEPS`` steps into episode ``seed``, cropped to the arena."""
+    return _picture_after_steps(MAP_TASK, seed, moving_obstacles=3, pedestrians=4)
+
+
+def _picture_after_steps(task_id: str, seed: int, **options) -> Image.Image:
+    """``task_id`` made with ``options``, ``CROWD_STEPS`` steps (turning in place) into episode
+    ``seed``: its annotated top-down picture cropped to the arena."""
     import dynnav_tasks
 
-    env = dynnav_tasks.NumpyWrapper(dynnav_tasks.make(MAP_TASK, moving_obstacles=3, pedestrians=4))
+    env = dynnav_tasks.NumpyWrapper(dynnav_tasks.make(task_id, **options))
     try:
         env.reset(seed=seed)
         for _ in range(CROWD_STEPS):
