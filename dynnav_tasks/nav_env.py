@@ -361,12 +361,17 @@ class NavEnv(Observations, TopDownView, BaseEnv):
         old = crowd.positions.copy()
         s = self._snapshot
         robot = ((s.pose[0], s.pose[1]), self._robot_velocity, ROBOT_RADIUS) if crowd.spec.see_robot else None
-        boxes = self._crowd_boxes
-        if len(self._moving_xy):  # the moving boxes where they are now, avoided as resting ones
-            boxes = np.vstack([boxes, np.hstack([self._moving_xy - self._moving_half, self._moving_xy + self._moving_half])])
-        new = crowd.step(1.0 / self._control_freq, self.np_random, robot=robot, boxes=boxes)
+        new = crowd.step(1.0 / self._control_freq, self.np_random, robot=robot, boxes=self._crowd_obstacles())
         np.add(old, (new - old) * self._sub_step_fractions, out=self._human_kinematic_xy, casting="same_kind")
         return self._human_bodies, self._human_rows
+
+    def _crowd_obstacles(self) -> np.ndarray:
+        """(k, 4) boxes the crowd walks round: the walls, the static boxes and the moving boxes
+        where they are now (as resting ones)."""
+        if not len(self._moving_xy):
+            return self._crowd_boxes
+        return np.vstack([self._crowd_boxes,
+                          np.hstack([self._moving_xy - self._moving_half, self._moving_xy + self._moving_half])])
 
     def _advance_movers(self) -> np.ndarray:
         movers = self._movers
@@ -533,9 +538,7 @@ class NavEnv(Observations, TopDownView, BaseEnv):
         ghost, rng = copy.deepcopy(crowd), copy.deepcopy(self.np_random)
         out = np.empty((steps + 1, crowd.spec.count, 2))
         out[0] = crowd.positions
-        boxes = self._crowd_boxes
-        if len(self._moving_xy):
-            boxes = np.vstack([boxes, np.hstack([self._moving_xy - self._moving_half, self._moving_xy + self._moving_half])])
+        boxes = self._crowd_obstacles()
         for k in range(1, steps + 1):
             out[k] = ghost.step(1.0 / self._control_freq, rng, robot=None, boxes=boxes)
         return out

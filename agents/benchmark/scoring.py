@@ -16,7 +16,7 @@ import numpy as np
 
 from agents.benchmark.policies import BenchmarkError, PolicySpec, check_action
 from agents.benchmark.suites import Cell
-from agents.training.stats import spl, wilson_interval
+from agents.training.stats import spl, straight_shortest, wilson_interval
 from dynnav_tasks.crowd.metrics import aggregate as aggregate_social
 from dynnav_tasks.crowd.metrics import episode_social
 from dynnav_tasks.outcomes import outcome_of
@@ -40,7 +40,7 @@ def play(policy: PolicySpec, cell: Cell, seed: int, actor) -> dict:
         obs, _, terminated, truncated, info = env.step(action)
         done, steps = bool(terminated or truncated), steps + 1
     outcome = outcome_of(info, bool(terminated))
-    shortest = max(float(np.linalg.norm(target - start)) - float(base.reach_radius), 0.0)
+    shortest = straight_shortest(start, target, float(base.reach_radius))
     record = dict(seed=seed, outcome=outcome, steps=steps,
                   spl=spl(outcome == "success", shortest, float(info["path_length"])))
     social = episode_social(info)

@@ -30,6 +30,12 @@ def wilson_interval(successes: int, n: int, z: float = 1.96) -> tuple[float, flo
     return (max(0.0, center - half), min(1.0, center + half))
 
 
+def straight_shortest(start, target, reach: float) -> float:
+    """The shortest path SPL takes (module docstring): the straight line from ``start`` to ``target``
+    (x, y) less the reach radius."""
+    return max(float(np.linalg.norm(np.subtract(target, start))) - reach, 0.0)
+
+
 def spl(success: bool, shortest: float, driven: float) -> float:
     """One episode's SPL term: ``shortest / max(driven, shortest)`` on success, else 0."""
     return round(shortest / max(driven, shortest, 1e-9), 4) if success else 0.0

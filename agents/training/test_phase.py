@@ -30,7 +30,7 @@ from agents.training.envs import is_dynnav
 from agents.training.policy_loading import load_policy, results_dir
 from agents.training.rollout import greedy, open_recorder, rollout
 from agents.training.run_lock import RunDirLock
-from agents.training.stats import spl, summarize
+from agents.training.stats import spl, straight_shortest, summarize
 from agents.training.test_report import draw_trajectories, write_results
 from agents.training.threads import limit_threads
 from dynnav_tasks.crowd.metrics import episode_social
@@ -71,7 +71,7 @@ def run_episodes(policy: Policy, episodes: int, seed: int, recorder=None, latent
         episode = rollout(env, seed + i, act, on_reset, on_step, recorder, index=i, views=policy.views)
         record = dict(seed=seed + i, outcome=episode.outcome, steps=episode.length, ret=round(episode.ret, 4))
         if dynnav:
-            shortest = max(float(np.linalg.norm(start["target"] - start["robot"])) - reach, 0.0)
+            shortest = straight_shortest(start["robot"], start["target"], reach)
             driven = float(episode.info["path_length"])
             record.update(start["world"])
             record.update(path_length=round(driven, 4), shortest_path=round(shortest, 4),
