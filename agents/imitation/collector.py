@@ -41,13 +41,13 @@ CHUNK = 4
 class EpisodePlayer:
     """A task, its teacher and the student's network: plays labelled episodes (one per process)."""
 
-    def __init__(self, config_values: dict):
+    def __init__(self, config_values: dict, human_margin: float = 0.0):
         limit_threads(1)
         config = config_from_dict(config_values, source="the student's config")
         self.env = make_env_from(config)
         self.features = make_features(self.env, config)
         self.net = build_q_network(config, self.features.input_specs, int(self.env.action_space.n))
-        self.teacher = PlannerController()
+        self.teacher = PlannerController(human_margin=human_margin)
         self.hidden = None  # a recurrent student's state in the current episode
 
     def start(self) -> None:
@@ -76,9 +76,9 @@ class EpisodePlayer:
 _PLAYER: Optional[EpisodePlayer] = None  # a worker process's player
 
 
-def _start_worker(config_values: dict) -> None:
+def _start_worker(config_values: dict, human_margin: float) -> None:
     global _PLAYER
-    _PLAYER = EpisodePlayer(config_values)
+    _PLAYER = EpisodePlayer(config_values, human_margin)
 
 
 def _play_in_worker(jobs, weights) -> list[Rollout]:
@@ -88,15 +88,16 @@ def _play_in_worker(jobs, weights) -> list[Rollout]:
 class Collector:
     """Labelled episodes of the student's task on ``workers`` processes (see the module docstring)."""
 
-    def __init__(self, config_values: dict, workers: int = 2):
+    def __init__(self, config_values: dict, workers: int = 2, human_margin: float = 0.0):
+        """``human_margin``: the personal space the teacher keeps from pedestrians (``PlannerController``)."""
         if isinstance(workers, bool) or not isinstance(workers, int) or workers < 0:
             raise ValueError(f"workers must be a non-negative integer (0: play in this process); got {workers!r}")
         self.workers = workers
-        self._local = EpisodePlayer(config_values) if workers == 0 else None
+        self._local = EpisodePlayer(config_values, human_margin) if workers == 0 else None
         self._pool = None
         if workers:
             self._pool = ProcessPoolExecutor(workers, mp_context=mp.get_context("spawn"), initializer=_start_worker,
-                                             initargs=(config_values,))
+                                             initargs=(config_values, human_margin))
 
     def play(self, jobs: Sequence[tuple[int, float]], weights: Optional[dict] = None, progress: bool = False,
              description: str = "episodes") -> list[Rollout]:

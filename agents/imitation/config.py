@@ -40,6 +40,9 @@ class ImitationConfig:
     beta_decay: float = 0.5
     """in DAgger round i the teacher's action is taken with probability beta_decay ** i, else the student's
     (Ross et al. 2011's mixture; 0: the student always drives)"""
+    teacher_human_margin: float = 0.0
+    """personal space (m) the teacher keeps from pedestrians where it can (``PlannerController``'s
+    human_margin): 0.2 keeps CrowdNav's discomfort distance"""
     epochs: int = 30
     """passes over the aggregated data at each fit"""
     fresh_fit: bool = False
@@ -75,7 +78,7 @@ class ImitationConfig:
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, numbers.Integral) or v < low:
                 errors.append(f"{name} must be an integer >= {low}; got {v!r}")
-        for name, lo, hi in (("beta_decay", 0.0, 1.0), ("learning_rate", 1e-12, 10.0)):
+        for name, lo, hi in (("beta_decay", 0.0, 1.0), ("learning_rate", 1e-12, 10.0), ("teacher_human_margin", 0.0, 1.0)):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, numbers.Real) or not lo <= v <= hi:
                 errors.append(f"{name} must be a number in [{lo}, {hi}]; got {v!r}")

@@ -146,7 +146,7 @@ def train(cfg: ImitationConfig) -> Path:
         if board is not None:
             cleanup.callback(board.close)
         epochs_done = start * cfg.epochs  # the x axis of the imitation loss: epochs over every fit
-        collector = cleanup.enter_context(Collector(to_yaml_dict(config), cfg.workers))
+        collector = cleanup.enter_context(Collector(to_yaml_dict(config), cfg.workers, cfg.teacher_human_margin))
         for round_ in range(start, cfg.rounds + 1):
             t0 = time.perf_counter()
             beta, n = cfg.beta(round_), cfg.teacher_episodes if round_ == 0 else cfg.round_episodes

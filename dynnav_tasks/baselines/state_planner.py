@@ -215,11 +215,13 @@ class StatePlanner:
 
         return h
 
-    def act(self, state: np.ndarray, yaw: float, humans: Optional[np.ndarray] = None, human_radius: float = 0.0) -> int:
+    def act(self, state: np.ndarray, yaw: float, humans: Optional[np.ndarray] = None, human_radius: float = 0.0,
+            boxed_in: Optional[int] = LEFT) -> Optional[int]:
         """The first action of the best plan from ``state`` (the task's state vector) and the
         robot's heading ``yaw`` (rad); ``humans``: the pedestrians' forecast centres
         (``NavEnv.pedestrian_forecast``, at least ``horizon`` + 1 steps), kept clear of as boxes
-        of half side ``human_radius`` swept between steps, as the moving boxes are."""
+        of half side ``human_radius`` swept between steps, as the moving boxes are; ``boxed_in``: the
+        answer when no first step is free (turning in place sweeps least)."""
         n = len(state) - 4 - 2 * self.world.moving_obstacle_count  # laser readings: 16 unless laser_rays says
         x0, y0 = float(state[n]), float(state[n + 1])
         tx, ty = float(state[n + 2]), float(state[n + 3])
@@ -264,7 +266,7 @@ class StatePlanner:
                                           action if first is None else first))
         if best is not None and best[1] is not None:
             return best[1]
-        return LEFT  # boxed in: turning in place sweeps least
+        return boxed_in
 
 
 def _swept_circles(centres: np.ndarray, radius: float) -> np.ndarray:
@@ -280,7 +282,12 @@ class PlannerController:
     controller): it reads the task's ``world`` and ``snapshot`` (the study's state vector, which
     ``snapshot.state_vector()`` gives in every task, and the robot's heading)."""
 
-    def __init__(self, **planner_kwargs):
+    def __init__(self, human_margin: float = 0.0, **planner_kwargs):
+        if isinstance(human_margin, bool) or not isinstance(human_margin, (int, float)) or not 0 <= human_margin <= 1:
+            raise ValueError(f"human_margin must be a distance in [0, 1] m; got {human_margin!r}")
+        self.human_margin = float(human_margin)
+        """personal space (m) the plans keep from every pedestrian beyond the robot's clearance, where a
+        plan with it exists (CrowdNav's discomfort counts a human within 0.2 m of the robot's edge)"""
         self.planner_kwargs = planner_kwargs
         self.planner: Optional[StatePlanner] = None
 
@@ -299,8 +306,13 @@ class PlannerController:
         walkers = env.world.pedestrians
         if walkers is None or not walkers.count:
             return self.planner.act(s.state_vector(), s.pose[2])
-        return self.planner.act(s.state_vector(), s.pose[2], env.pedestrian_forecast(self.planner.horizon),
-                                walkers.radius)
+        forecast = env.pedestrian_forecast(self.planner.horizon)
+        if self.human_margin > 0:
+            action = self.planner.act(s.state_vector(), s.pose[2], forecast, walkers.radius + self.human_margin,
+                                      boxed_in=None)
+            if action is not None:
+                return action  # else a pedestrian is already within the margin: plan round its body alone
+        return self.planner.act(s.state_vector(), s.pose[2], forecast, walkers.radius)
 
 
 def run_planner(task_id: str, seeds, progress: bool = False, label: Optional[str] = None, task_kwargs=None,
@@ -334,6 +346,9 @@ class Args:
     memoryless: bool = False
     """forecast the boxes from the current state alone, without the previous step's positions
     (the information an agent fed one state vector has)"""
+    human_margin: float = 0.0
+    """personal space (m) kept from every pedestrian where a plan with it exists; its --out entries are
+    named state_planner_margin<M>/..."""
     out: Optional[str] = None
     """also write each task's success, collision and timeout rates into this JSON file (merged
     with what it holds, one entry per task), e.g. docs/results/ceilings.json for agents.study.report;
@@ -345,12 +360,15 @@ def main(args: Args) -> None:
     from dynnav_tasks import CROWD_TASK_IDS, MAP_TASK_IDS, PROCEDURAL_TASK_IDS, TASK_IDS
     from dynnav_tasks.baselines.cli import run_over_cells, run_over_tasks
 
-    planner = dict(max_expansions=args.max_expansions, remember=not args.memoryless, tracked=args.tracked)
+    planner = dict(max_expansions=args.max_expansions, remember=not args.memoryless, tracked=args.tracked,
+                   human_margin=args.human_margin)
+    name = "state_planner" + (f"_tracked{args.tracked}" if args.tracked else "") + (
+        f"_margin{args.human_margin:g}" if args.human_margin else "")
     if args.task in PROCEDURAL_TASK_IDS:
         run_over_cells(args.task, args.difficulty, args.split, args.episodes, args.first_seed,
                        lambda d, s, seeds: run_planner(args.task, seeds, progress=True, label=f"{args.task} {d} {s}",
                                                        task_kwargs=dict(difficulty=d, split=s), **planner),
-                       controller=f"state_planner_tracked{args.tracked}" if args.tracked else "state_planner",
+                       controller=name,
                        out=args.out)
         return
     if args.difficulty or args.split:
@@ -368,7 +386,7 @@ def main(args: Args) -> None:
     others = CROWD_TASK_IDS + MAP_TASK_IDS  # their entries name the planner, as the other controllers' do
     run_over_tasks(args.task, TASK_IDS + others, "task id", args.episodes, args.first_seed,
                    lambda task, seeds: run_planner(task, seeds, progress=True, task_kwargs=options, **planner),
-                   out=args.out, options=options, controller="state_planner" if args.task in others else None)
+                   out=args.out, options=options, controller=name if args.task in others or name != "state_planner" else None)
 
 
 if __name__ == "__main__":
