@@ -21,6 +21,21 @@ reward_mode                        reward of a step that neither reaches nor col
 ``potential_as_written`` (4.9)     near: as ``potential``; else gamma_p * (A_p / d1' - A_p / d1)
 =================================  ===========================================================
 
+Beyond the study's, dynnav's own (``EXTRA_REWARD_MODES``):
+
+=================================  ===========================================================
+``progress``                       k (d1 - d1'): the metres the step brought the robot nearer
+                                   the target, times ``progress_scale`` k
+=================================  ===========================================================
+
+``progress`` is potential-based shaping with Phi = -k d1 and no discount inside it (Ng et al.
+1999), the progress term of NavRep's and Arena-Rosnav's rewards: over an episode its steps sum to
+k times the distance gained, whatever the way, so ending an episode early never pays more than
+reaching the target, and standing still costs nothing but the discount. The study's
+rewards charge every step (1 - exp(g d1) < 0), which makes an early crash the better deal for a
+learner that discounts little (``examples/sb3_continuous_drive.py``: PPO at gamma 0.99 learned
+to crash under them); it is the reward of the Stable-Baselines3 recipe (docs/sb3.md).
+
 All but ``sparse`` give +20 on reaching the target and -20 on a collision, alone (no
 shaping term is added on those steps). ``'`` marks the state after the step.
 
@@ -99,9 +114,11 @@ REWARD_MODES = (
 )
 DEFAULT_REWARD_MODE = "distance_orientation_always"
 """The study's reward of a task made without a ``reward_mode``, and ManiSkill's ``dense``"""
+EXTRA_REWARD_MODES = ("progress",)
+"""dynnav's rewards beyond the study's (see above)"""
 MANISKILL_REWARD_MODES = ("dense", "normalized_dense", "none")
 """ManiSkill's names for the default reward, it normalised, and no reward (see above)"""
-SUPPORTED_REWARD_MODES = REWARD_MODES + MANISKILL_REWARD_MODES
+SUPPORTED_REWARD_MODES = REWARD_MODES + EXTRA_REWARD_MODES + MANISKILL_REWARD_MODES
 
 
 @dataclass(frozen=True)
@@ -126,6 +143,8 @@ class RewardParams:
     """A_p > 0 in Phi = A_p / d1 + B_p / d2"""
     potential_obstacle: float = -0.5
     """B_p < 0 in Phi = A_p / d1 + B_p / d2"""
+    progress_scale: float = 1.0
+    """k in ``progress``'s k (d1 - d1'): reward per metre gained on the target"""
     sparse_reach: float = 1.0
     """sparse mode: reward for reaching the target"""
     sparse_collision: float = -1.0
@@ -219,12 +238,18 @@ def potential_as_written(prev: Geometry, cur: Geometry, p: RewardParams) -> floa
     return p.potential_gamma * (p.potential_target / cur.d1 - p.potential_target / prev.d1)
 
 
+def progress(prev: Geometry, cur: Geometry, p: RewardParams) -> float:
+    """dynnav's ``progress``: k (d1 - d1'), the potential -k d1's difference (see the module docstring)."""
+    return p.progress_scale * (prev.d1 - cur.d1)
+
+
 _SHAPED = {
     "distance": distance,
     "distance_orientation": distance_orientation,
     "distance_orientation_always": distance_orientation_always,
     "potential": potential_shaping,
     "potential_as_written": potential_as_written,
+    "progress": progress,
 }
 _SHAPED["dense"] = _SHAPED[DEFAULT_REWARD_MODE]
 

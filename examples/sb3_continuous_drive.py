@@ -1,21 +1,27 @@
 """Stable-Baselines3's SAC or PPO on a dynnav task with the continuous drive, then a test.
 
-    python examples/sb3_continuous_drive.py                      # SAC on world 5.2, 100k steps
-    python examples/sb3_continuous_drive.py --algo ppo --steps 300000
-    python examples/sb3_continuous_drive.py --task DynNav-MovingObstacles-v1 --seed 2
+    python examples/sb3_continuous_drive.py                           # SAC on world 5.2, the recipe
+    python examples/sb3_continuous_drive.py --algo ppo --envs 8 --steps 1000000
+    python examples/sb3_continuous_drive.py --reward study            # the study's reward (learns to stall)
+    python examples/sb3_continuous_drive.py --algo ppo --save ppo-5.2 # then: dynnav-benchmark --policy ppo-5.2.zip ...
 
 The task is made by ``gym.make`` with ``control_mode="diff_drive_vel"`` (a ``Box(2)`` action:
 linear and angular velocity, docs/drive.md) and wrapped in ``dynnav_tasks.NumpyWrapper``; that is
-all the glue SB3 needs. The reward is the task's default (``distance_orientation_always``) with a
-collision costing -50 instead of -20, and the discount is the study's 0.97, as in ``make demo``:
-with the default -20 and SB3's gamma 0.99 a crash soon after the start costs less than the
-distance penalties of a long search, and both algorithms learn to crash (0% success in our
-runs). Everything else is SB3's defaults.
+all the glue SB3 needs. The recipe (docs/sb3.md) changes the reward, not the algorithm:
+
+* ``--reward progress`` (the default): ``reward_mode="progress"``, the metres gained on the
+  target each step (potential-based shaping, so a crash never pays more than arriving), +20 on
+  arriving and -20 on a collision. ``--reward study``: the task's default reward
+  (``distance_orientation_always``) with a collision costing -50, under which every step costs
+  and SB3's learners settle for stalling or crashing;
+* rewards normalised by ``VecNormalize`` (``norm_obs=False``, so the saved model reads the task's
+  own observations and scores in ``dynnav-benchmark`` as it is); ``--no-normalize`` turns it off;
+* the discount 0.99 (``--gamma``), SB3's own.
 
 After training, the deterministic policy runs ``--test-episodes`` episodes with the seeds
-100000, 100001, ... (never used in training: SB3 resets with the training seed once, then the
-task draws its own) and the script prints the share of successes, collisions and timeouts.
-Requires the ``bench`` extra (``pip install -e ".[bench]"``; ``make setup`` installs it).
+1000000, 1000001, ... (the benchmark's: never used in training, where SB3 resets with the training
+seed once and the task draws its own) and the script prints the share of successes, collisions and
+timeouts. Requires the ``bench`` extra (``pip install -e ".[bench]"``; ``make setup`` installs it).
 """
 
 from __future__ import annotations
@@ -31,36 +37,44 @@ import dynnav_tasks
 from dynnav_tasks.outcomes import outcome_of
 
 ALGORITHMS = ("sac", "ppo")
-TEST_SEED = 100_000
-"""the first test episode's reset seed"""
-TASK_OPTIONS = dict(control_mode="diff_drive_vel", reward_params={"collision_reward": -50.0})
-"""the continuous drive, and a collision costing -50 (see the module's docstring)"""
-GAMMA = 0.97
+TEST_SEED = 1_000_000
+"""the first test episode's reset seed (dynnav-benchmark's)"""
+REWARDS = {
+    "progress": dict(reward_mode="progress"),
+    "study": dict(reward_params={"collision_reward": -50.0}),
+}
+"""the task options of each --reward (see the module's docstring)"""
+GAMMA = 0.99
 
 
-def make_env(task: str) -> gym.Env:
-    """The task with the continuous drive, in the plain gymnasium API."""
-    return dynnav_tasks.NumpyWrapper(gym.make(task, **TASK_OPTIONS))
+def make_env(task: str, reward: str = "progress") -> gym.Env:
+    """The task with the continuous drive and ``reward``'s options, in the plain gymnasium API."""
+    if reward not in REWARDS:
+        raise ValueError(f"unknown reward {reward!r}; choose one of {', '.join(REWARDS)}")
+    return dynnav_tasks.NumpyWrapper(gym.make(task, control_mode="diff_drive_vel", **REWARDS[reward]))
 
 
-def make_training_env(task: str, envs: int):
-    """``envs`` copies of the task for SB3 to collect from, stepped in turn in this process (one
-    is the task itself)."""
-    if envs == 1:
-        return make_env(task)
+def make_training_env(task: str, envs: int, reward: str = "progress", normalize: bool = False, gamma: float = GAMMA):
+    """``envs`` copies of the task for SB3 to collect from, stepped in turn in this process, their
+    rewards normalised by ``VecNormalize`` when ``normalize`` (one plain copy without it)."""
+    if envs == 1 and not normalize:
+        return make_env(task, reward)
     from stable_baselines3.common.env_util import make_vec_env
+    from stable_baselines3.common.vec_env import VecNormalize
 
-    return make_vec_env(lambda: make_env(task), n_envs=envs)
+    vec = make_vec_env(lambda: make_env(task, reward), n_envs=envs)
+    return VecNormalize(vec, norm_obs=False, norm_reward=True, gamma=gamma) if normalize else vec
 
 
 def make_model(algo: str, env, seed: int, **overrides):
-    """An SB3 SAC or PPO with its defaults, the study's discount and ``overrides``."""
+    """An SB3 SAC or PPO with its defaults and ``overrides`` (the discount ``GAMMA`` unless given)."""
     from stable_baselines3 import PPO, SAC
 
     if algo not in ALGORITHMS:
         raise ValueError(f"unknown algorithm {algo!r}; choose one of {', '.join(ALGORITHMS)}")
     model_class = SAC if algo == "sac" else PPO
-    return model_class("MlpPolicy", env, gamma=GAMMA, seed=seed, device="cpu", verbose=0, **overrides)
+    overrides.setdefault("gamma", GAMMA)
+    return model_class("MlpPolicy", env, seed=seed, device="cpu", verbose=0, **overrides)
 
 
 def test(model, env: gym.Env, episodes: int) -> Counter:
@@ -83,20 +97,32 @@ def main() -> None:
     parser.add_argument("--task", default="DynNav-MovingTarget-v1", help="a dynnav task id (world 5.2 by default)")
     parser.add_argument("--steps", type=int, default=100_000, help="training steps (environment steps)")
     parser.add_argument("--envs", type=int, default=1, help="copies of the task to collect from (PPO: e.g. 8)")
+    parser.add_argument("--reward", choices=tuple(REWARDS), default="progress", help="the task's reward (see above)")
+    parser.add_argument("--normalize", action=argparse.BooleanOptionalAction, default=True,
+                        help="normalise the rewards with VecNormalize")
+    parser.add_argument("--gamma", type=float, default=GAMMA, help="the discount")
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--test-episodes", type=int, default=100)
+    parser.add_argument("--save", default=None, help="also save the model to this path (SB3 adds .zip)")
     args = parser.parse_args()
     if min(args.steps, args.test_episodes, args.envs) < 1:
         parser.error("--steps, --test-episodes and --envs must be at least 1")
+    if not 0 < args.gamma <= 1:
+        parser.error(f"--gamma must be in (0, 1]; got {args.gamma}")
 
     torch.set_num_threads(1)
-    model = make_model(args.algo, make_training_env(args.task, args.envs), args.seed)
+    train_env = make_training_env(args.task, args.envs, args.reward, args.normalize, args.gamma)
+    model = make_model(args.algo, train_env, args.seed, gamma=args.gamma)
     start = time.perf_counter()
     model.learn(total_timesteps=args.steps, progress_bar=True)
     seconds = time.perf_counter() - start
-    print(f"{args.algo.upper()} on {args.task} (diff_drive_vel), seed {args.seed}: "
+    print(f"{args.algo.upper()} on {args.task} (diff_drive_vel, reward {args.reward}, normalize {args.normalize}, "
+          f"gamma {args.gamma}, {args.envs} env(s)), seed {args.seed}: "
           f"{args.steps} steps in {seconds:.0f} s ({args.steps / seconds:.0f} steps/s)")
-    env = make_env(args.task)
+    if args.save:
+        model.save(args.save)
+        print(f"saved {args.save}.zip" if not args.save.endswith(".zip") else f"saved {args.save}")
+    env = make_env(args.task, args.reward)
     outcomes = test(model, env, args.test_episodes)
     n = args.test_episodes
     print(f"test, {n} episodes: success {outcomes['success'] / n:.0%}, "

@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from dynnav_tasks.rewards import REWARD_MODES, RewardParams, compute_reward
+from dynnav_tasks.rewards import EXTRA_REWARD_MODES, REWARD_MODES, RewardParams, compute_reward
 from dynnav_tasks.snapshot import take_snapshot
 
 P = RewardParams()
@@ -59,13 +59,16 @@ FAR = inputs(d2=2.0, d2_prev=2.0)  # obstacle terms off
         ("potential_as_written", NEAR, 0.9 * -0.5 - (1 / 2.15 - 0.5 / 0.6)),
         ("potential_as_written", FAR, 0.9 * (0.5 - 1 / 2.15)),
         ("sparse", NEAR, -0.01),
+        # the 0.15 m gained on the target; obstacles and bearing play no part
+        ("progress", NEAR, 0.15),
+        ("progress", FAR, 0.15),
     ],
 )
 def test_step_rewards_match_hand_values(mode, x, expected):
     assert reward(mode, x) == pytest.approx(expected, abs=1e-12)
 
 
-@pytest.mark.parametrize("mode", REWARD_MODES)
+@pytest.mark.parametrize("mode", REWARD_MODES + EXTRA_REWARD_MODES)
 def test_terminal_rewards_replace_shaping(mode):
     reach, crash = (1.0, -1.0) if mode == "sparse" else (20.0, -20.0)
     assert reward(mode, inputs(reached=True), P) == reach
@@ -138,3 +141,13 @@ def test_snapshot_geometry_is_hand_computed():
 def test_reward_parameters_must_be_finite_numbers(bad):
     with pytest.raises(ValueError, match=r"reward parameter 'distance_gamma' must be a finite number"):
         RewardParams.from_dict({"distance_gamma": bad})
+
+
+def test_progress_sums_to_the_distance_gained_whatever_the_way():
+    """Over a detour, a retreat and a wait, progress adds up to k times d1(start) - d1(end): ending
+    an episode early never pays more than getting nearer."""
+    p = RewardParams(progress_scale=2.5)
+    way = [3.0, 2.8, 2.9, 2.9, 2.2, 1.0]
+    total = sum(reward("progress", inputs(d1=b, d1_prev=a, d2=9, d2_prev=9), p) for a, b in zip(way, way[1:]))
+    assert total == pytest.approx(2.5 * (3.0 - 1.0))
+    assert reward("progress", inputs(d1=2.0, d1_prev=2.0), p) == 0.0
