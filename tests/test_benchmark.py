@@ -78,7 +78,22 @@ def test_a_stable_baselines3_model_is_scored(tmp_path):
         run_cells(wrong, [Cell(TASK, {}, episodes=1)], workers=0, progress=False)
 
 
+def test_a_scripted_controller_scores_as_the_baselines_own_episodes_do():
+    """controller:go_to_target under the benchmark's protocol gives each seed the outcome and steps that the
+    baselines' episode runner gives it; DWA is opened on the velocity drive it commands."""
+    from dynnav_tasks.baselines.go_to_target import run_go_to_target
+
+    seeds = range(1_000_000, 1_000_005)
+    (records,) = run_cells(PolicySpec("controller:go_to_target"), [Cell(TASK, {}, episodes=5)], workers=0, progress=False)
+    own = run_go_to_target(TASK, seeds).episodes
+    assert [(r["outcome"], r["steps"]) for r in records] == [(e.outcome, e.steps) for e in own]
+    actor = PolicySpec("controller:dwa").open(TASK, {})
+    assert actor.env.action_space.shape == (2,)
+    actor.env.close()
+
+
 @pytest.mark.parametrize("argv, message", [
+    (["--policy", "controller:nope", "--suite", "study"], "no scripted controller 'nope'; the controllers: planner"),
     (["--policy", "bench_policies:toward_target", "--suite", "city"], "unknown suite 'city'"),
     (["--policy", "bench_policies:toward_target"], "give either --suite"),
     (["--policy", "nothing_here:act", "--suite", "study"], "cannot import 'nothing_here'"),

@@ -200,7 +200,9 @@ def test_the_pedestrian_forecast_is_where_a_blind_crowd_walks():
 
 def test_the_full_state_planner_waits_for_a_pedestrian_that_a_straight_drive_hits():
     """The head-on pedestrian of the ORCA robot's test, with the discrete drive: driving straight
-    collides; the planner, forecasting the pedestrian, reaches the target without touching it."""
+    collides; the planner, forecasting the pedestrian, reaches the target without touching it, and
+    with a personal space of 0.2 m it passes no nearer than CrowdNav's discomfort distance."""
+    from dynnav_tasks.baselines.episodes import ROBOT_RADIUS
     from dynnav_tasks.baselines.state_planner import PlannerController
 
     world = World(targets=(Static((4.0, 0.0)),), arena=Arena((-5.0, 5.0), (-5.0, 5.0)), start=START,
@@ -208,18 +210,25 @@ def test_the_full_state_planner_waits_for_a_pedestrian_that_a_straight_drive_hit
     register_env("TestPlannerHeadOn-v1", max_episode_steps=200)(type("TestPlannerHeadOn", (NavEnv,), {"world": world}))
     env = dynnav_tasks.NumpyWrapper(gym.make("TestPlannerHeadOn-v1"))
     try:
-        outcomes = {}
-        for driver in ("straight", "planner"):
+        outcomes, nearest = {}, {}
+        for driver in ("straight", "planner", "planner_margin"):
             env.reset(seed=0)
             env.unwrapped.place_pedestrians([(3.0, 0.05)], goals=[(-3.0, 0.05)])
-            planner = PlannerController()
+            planner = PlannerController(human_margin=0.2 if driver == "planner_margin" else 0.0)
             planner.start(env.unwrapped)
-            done = False
+            done, gaps = False, []
             while not done:
                 action = 0 if driver == "straight" else planner.act(env.unwrapped)
                 _, _, terminated, truncated, info = env.step(action)
                 done = terminated or truncated
+                s = env.unwrapped.snapshot  # the gap between the robot's circle and the pedestrian's
+                gaps.append(np.hypot(*(s.human_xy[0] - s.pose[:2])) - ROBOT_RADIUS - world.pedestrians.radius)
             outcomes[driver] = dynnav_tasks.outcome_of(info, terminated), bool(info["human_collision"])
-        assert outcomes == {"straight": ("collision", True), "planner": ("success", False)}
+            nearest[driver] = min(gaps)
+        assert outcomes == {"straight": ("collision", True), "planner": ("success", False),
+                            "planner_margin": ("success", False)}
+        assert nearest["planner"] < 0.2 <= nearest["planner_margin"]
     finally:
         env.close()
+    with pytest.raises(ValueError, match=r"human_margin must be a distance in \[0, 1\] m; got -0.1"):
+        PlannerController(human_margin=-0.1)

@@ -20,7 +20,7 @@ from agents.benchmark.suites import EPISODES, FIRST_SEED, Cell, suite_cells
 @dataclass
 class Args:
     policy: str
-    """pretrained:NAME, a run directory, a Stable-Baselines3 FILE.zip (with --algo) or module:function"""
+    """pretrained:NAME, a run directory, a Stable-Baselines3 FILE.zip (with --algo), controller:NAME or module:function"""
     suite: Optional[str] = None
     """study, procedural or crowd (agents/benchmark/suites.py); or give --task"""
     task: Optional[str] = None

@@ -10,6 +10,10 @@ a run directory                a DQN run's checkpoint (``python -m agents.dqn`` 
 ``module:function``            a Python callable from observation to action, imported from the
                                current folder or the installed packages; ``function.reset()`` or
                                the module's ``reset()``, if there, is called at each reset
+``controller:NAME``            a scripted controller (``dynnav_tasks.baselines.registry``:
+                               ``planner``, ``go_to_target``, ``dwa``, ``orca_robot``,
+                               ``social_force_robot``) on the drive it commands; it reads the
+                               task's state as the baselines do, not the observation
 =============================  =================================================================
 
 A DQN policy plays its own task: a cell of another task is refused (name one of its task with
@@ -53,9 +57,11 @@ class PolicySpec:
 
     @property
     def kind(self) -> str:
-        """"dqn", "sb3" or "callable"."""
+        """"dqn", "sb3", "controller" or "callable"."""
         if self.spec.startswith("pretrained:") or Path(self.spec).is_dir():
             return "dqn"
+        if self.spec.startswith("controller:"):
+            return "controller"
         if self.spec.endswith(".zip"):
             return "sb3"
         return "callable"
@@ -82,9 +88,12 @@ class PolicySpec:
             return
         if self.algo:
             raise BenchmarkError(f"--algo applies to a Stable-Baselines3 .zip, not to {s}")
+        if self.kind == "controller":
+            self._controller()
+            return
         if ":" not in s or not all(s.split(":", 1)):
             raise BenchmarkError(f"{s!r} is not a policy: give pretrained:NAME, a run directory, a Stable-Baselines3 "
-                                 ".zip with --algo, or module:function")
+                                 ".zip with --algo, controller:NAME or module:function")
         self._callable()
 
     def _callable(self) -> tuple[Callable, Optional[Callable]]:
@@ -102,10 +111,20 @@ class PolicySpec:
         reset = getattr(fn, "reset", None) or getattr(module, "reset", None)
         return fn, reset if callable(reset) else None
 
+    def _controller(self):
+        from dynnav_tasks.baselines.registry import make_controller
+
+        try:
+            return make_controller(self.spec.split(":", 1)[1])
+        except ValueError as err:
+            raise BenchmarkError(f"--policy {self.spec}: {err}") from err
+
     def open(self, task: str, options: dict) -> Actor:
         """The policy acting on ``task`` made with ``options`` (BenchmarkError if it cannot)."""
         if self.kind == "dqn":
             return self._open_dqn(task, options)
+        if self.kind == "controller":
+            return self._open_controller(task, options)
         import dynnav_tasks
 
         env = dynnav_tasks.NumpyWrapper(dynnav_tasks.make(task, obs_mode="state", **{**options, **self.options}))
@@ -127,6 +146,20 @@ class PolicySpec:
             return int(np.argmax(policy.q_values(obs)))
 
         return Actor(policy.env, act, policy.reset)
+
+    def _open_controller(self, task: str, options: dict) -> Actor:
+        import dynnav_tasks
+        from dynnav_tasks.baselines.registry import control_mode_of
+
+        controller = self._controller()
+        made = {**options, **self.options}
+        mode = control_mode_of(controller)
+        if made.get("control_mode", mode) != mode:
+            raise BenchmarkError(f"{self.spec} commands the {mode} drive; drop control_mode={made['control_mode']} "
+                                 "from the options")
+        env = dynnav_tasks.NumpyWrapper(dynnav_tasks.make(task, obs_mode="state", **{**made, "control_mode": mode}))
+        base = env.unwrapped
+        return Actor(env, lambda obs: controller.act(base), lambda: controller.start(base))
 
     def _open_sb3(self, env, task: str) -> Actor:
         try:

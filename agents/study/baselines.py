@@ -82,6 +82,24 @@ def _mean(values) -> float | None:
     return float(np.mean(values)) if values else None
 
 
+def _learner(experiment: str) -> str:
+    """How a crowd experiment learned, from its name: the imitation run's record ends in -dagger, the
+    reinforcement learning on top of it in -finetune (configs/crowd/, configs/imitation/)."""
+    if experiment.endswith("-dagger"):
+        return "behaviour cloning + DAgger"
+    if experiment.endswith("-finetune"):
+        return "Double DQN from the student, DQfD"
+    return "DQN"
+
+
+def _controller_name(controller: str) -> str:
+    """The table's name of a scripted controller's entry (``state_planner_margin0.2``: the planner keeping
+    0.2 m of personal space)."""
+    base, _, margin = controller.partition("_margin")
+    name = CONTROLLERS.get(base, base.replace("_", " "))
+    return f"{name}, {margin} m personal space" if margin else name
+
+
 def crowd_section(rows: list[dict], baselines: dict[str, dict]) -> list[str]:
     """The crowd section's Markdown lines (none without a crowd run or a crowd baseline)."""
     runs: dict[str, list[dict]] = {}
@@ -108,13 +126,13 @@ def crowd_section(rows: list[dict], baselines: dict[str, dict]) -> list[str]:
                   "timeout": _mean(r["timeout_rate"] for r in group)}
         values.update({k: _mean(r[k] for r in group) for k, _ in METRICS[3:]})
         size = f"{len(group)} x {group[0]['test_episodes']}"
-        lines.append(f"| `{name}` (DQN) | {size} | " + " | ".join(_cell(k, values[k]) for k, _ in METRICS) + " |")
+        lines.append(f"| `{name}` ({_learner(name)}) | {size} | " + " | ".join(_cell(k, values[k]) for k, _ in METRICS) + " |")
     for key in sorted(robots, key=lambda k: (-robots[k]["success"], k)):
         entry = robots[key]
         social = entry.get("social") or {}
         values = {k: entry.get(k, social.get(k)) for k, _ in METRICS}
         controller, task = key.split("/", 1)
-        name = CONTROLLERS.get(controller, controller.replace("_", " "))
+        name = _controller_name(controller)
         if len(settings) > 1:
             name += f" {task.removeprefix(CROWD_TASK).strip()}"
         lines.append(f"| {name} | 1 x {entry.get('episodes', '-')} | "
