@@ -148,3 +148,19 @@ def test_a_card_is_a_row_of_its_suite_under_the_references(tmp_path):
     card = json.loads(out.read_text())
     assert f"## {TASK}" in page and "| full-state planner (the ceiling) |" in page
     assert f"| `bench_policies:toward_target` | {card['cells'][0]['success']:.0%} |" in page
+
+
+def test_navigators_on_either_drive_share_a_column_and_the_row_names_the_drive(tmp_path):
+    """A continuous-drive card (an SB3 model made with control_mode=diff_drive_vel) and a discrete one of the
+    same task are one column of the leaderboard; the drive belongs to the navigator's row."""
+    from agents.benchmark.leaderboard import read_cards, render
+
+    def card(policy, options, success):
+        return dict(policy=policy, algo="ppo" if options else None, suite=TASK, cells=[dict(
+            task=TASK, options=options, name=TASK, episodes=100, success=success, references={"planner": 0.9})])
+
+    (tmp_path / "a.json").write_text(json.dumps(card("pretrained:5.1", {}, 0.97)))
+    (tmp_path / "b.json").write_text(json.dumps(card("ppo.zip", {"control_mode": "diff_drive_vel"}, 0.5)))
+    page = render(read_cards(tmp_path))
+    assert "| navigator | OneObstacle-v1 |" in page
+    assert "| `pretrained:5.1` | 97% |" in page and "| `ppo.zip` (ppo) (continuous drive) | 50% |" in page

@@ -15,6 +15,7 @@ import json
 from pathlib import Path
 
 from agents.files import atomic_write_bytes
+from dynnav_tasks.task_options import options_name
 
 ROOT = Path(__file__).resolve().parents[2]
 CARDS = ROOT / "results" / "scorecards"
@@ -46,6 +47,22 @@ def _label(name: str) -> str:
     return name.removeprefix("DynNav-Procedural-v1 ").removeprefix("DynNav-").strip("[]")
 
 
+DRIVE = "control_mode"
+"""the option that chooses the drive: part of the navigator (its row), not of the cell (its column)"""
+
+
+def _column(cell: dict) -> str:
+    """A cell's column: its task and options but the drive, so that navigators on either drive share it."""
+    options = {k: v for k, v in cell.get("options", {}).items() if k != DRIVE}
+    return f"{cell['task']} [{options_name(options)}]" if options else cell["task"]
+
+
+def _drive(card: dict) -> str:
+    """`` (continuous drive)`` for a card played on the velocity drive, else nothing."""
+    modes = {c.get("options", {}).get(DRIVE) for c in card["cells"]}
+    return " (continuous drive)" if "diff_drive_vel" in modes else ""
+
+
 def render(cards: list[dict]) -> str:
     """The page's Markdown."""
     lines = ["# Leaderboard", "",
@@ -60,19 +77,19 @@ def render(cards: list[dict]) -> str:
         lines.append("No score cards yet.")
     for suite in sorted(suites):
         group = suites[suite]
-        names = [c["name"] for c in group[0]["cells"]]
+        names = [_column(c) for c in group[0]["cells"]]
         episodes = group[0]["cells"][0]["episodes"]
         lines += [f"## {suite}", "", f"{len(names)} cell(s), {episodes} episodes each (success rate).", "",
                   "| navigator | " + " | ".join(_label(n) for n in names) + " |", "|---|" + "---|" * len(names)]
         for key, label in REFERENCES:
             values = [next((c["references"].get(key) for card in group for c in card["cells"]
-                            if c["name"] == n and c["references"].get(key) is not None), None) for n in names]
+                            if _column(c) == n and c["references"].get(key) is not None), None) for n in names]
             if any(v is not None for v in values):
                 lines.append(f"| {label} | " + " | ".join(_pct(v) for v in values) + " |")
         for card in sorted(group, key=lambda c: -sum(x["success"] for x in c["cells"])):
-            rates = {c["name"]: c["success"] for c in card["cells"]}
+            rates = {_column(c): c["success"] for c in card["cells"]}
             algo = f" ({card['algo']})" if card.get("algo") else ""
-            lines.append(f"| `{card['policy']}`{algo} | " + " | ".join(_pct(rates.get(n)) for n in names) + " |")
+            lines.append(f"| `{card['policy']}`{algo}{_drive(card)} | " + " | ".join(_pct(rates.get(n)) for n in names) + " |")
         lines.append("")
     return "\n".join(lines).rstrip("\n") + "\n"
 
