@@ -41,15 +41,16 @@ SCRIPTED = ("dwa", "orca_robot", "social_force_robot")
 
 def references(cell: Cell) -> dict:
     """The success in ``cell`` of the planner, the floor and the classical controllers, where
-    measured (else None)."""
+    measured (else None), each on its own drive: a cell's ``control_mode`` is the navigator's."""
     if cell.task == "DynNav-Procedural-v1" and {"difficulty", "split"} <= set(cell.options):
         cells = _json("procedural_ceilings.json")
         key = f"{cell.options['difficulty']}/{cell.options['split']}"
         get = lambda who: (cells.get(f"{who}/{key}") or {}).get("success")  # noqa: E731
         return dict(planner=get("state_planner"), go_to_target=get("go_to_target"), **{w: get(w) for w in SCRIPTED})
+    name = Cell(cell.task, {k: v for k, v in cell.options.items() if k != "control_mode"}).name  # each its own drive
     scripted = _json("baselines.json")
-    get = lambda who: (scripted.get(f"{who}/{cell.name}") or {}).get("success")  # noqa: E731
-    ceiling = _json("ceilings.json").get(cell.name)
+    get = lambda who: (scripted.get(f"{who}/{name}") or {}).get("success")  # noqa: E731
+    ceiling = _json("ceilings.json").get(name)
     planner = ceiling.get("success") if ceiling else get("state_planner")
     return dict(planner=planner, go_to_target=None, **{w: get(w) for w in SCRIPTED})
 
