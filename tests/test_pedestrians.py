@@ -200,8 +200,9 @@ def test_the_pedestrian_forecast_is_where_a_blind_crowd_walks():
 
 def test_the_full_state_planner_waits_for_a_pedestrian_that_a_straight_drive_hits():
     """The head-on pedestrian of the ORCA robot's test, with the discrete drive: driving straight
-    collides; the planner, forecasting the pedestrian, reaches the target without touching it, and
-    with a personal space of 0.2 m it passes no nearer than CrowdNav's discomfort distance."""
+    collides; the planner, forecasting the pedestrian (with its model, or from its last step's velocity),
+    reaches the target without touching it, and with a personal space of 0.2 m it passes no nearer
+    than CrowdNav's discomfort distance."""
     from dynnav_tasks.baselines.episodes import ROBOT_RADIUS
     from dynnav_tasks.baselines.state_planner import PlannerController
 
@@ -211,10 +212,11 @@ def test_the_full_state_planner_waits_for_a_pedestrian_that_a_straight_drive_hit
     env = dynnav_tasks.NumpyWrapper(gym.make("TestPlannerHeadOn-v1"))
     try:
         outcomes, nearest = {}, {}
-        for driver in ("straight", "planner", "planner_margin"):
+        for driver in ("straight", "planner", "planner_margin", "planner_cv"):
             env.reset(seed=0)
             env.unwrapped.place_pedestrians([(3.0, 0.05)], goals=[(-3.0, 0.05)])
-            planner = PlannerController(human_margin=0.2 if driver == "planner_margin" else 0.0)
+            planner = PlannerController(human_margin=0.2 if driver == "planner_margin" else 0.0,
+                                        human_forecast="constant_velocity" if driver == "planner_cv" else "model")
             planner.start(env.unwrapped)
             done, gaps = False, []
             while not done:
@@ -225,10 +227,13 @@ def test_the_full_state_planner_waits_for_a_pedestrian_that_a_straight_drive_hit
                 gaps.append(np.hypot(*(s.human_xy[0] - s.pose[:2])) - ROBOT_RADIUS - world.pedestrians.radius)
             outcomes[driver] = dynnav_tasks.outcome_of(info, terminated), bool(info["human_collision"])
             nearest[driver] = min(gaps)
+        # a pedestrian walking a straight line is forecast as well from its last step's velocity
         assert outcomes == {"straight": ("collision", True), "planner": ("success", False),
-                            "planner_margin": ("success", False)}
+                            "planner_margin": ("success", False), "planner_cv": ("success", False)}
         assert nearest["planner"] < 0.2 <= nearest["planner_margin"]
     finally:
         env.close()
     with pytest.raises(ValueError, match=r"human_margin must be a distance in \[0, 1\] m; got -0.1"):
         PlannerController(human_margin=-0.1)
+    with pytest.raises(ValueError, match="human_forecast must be one of model, constant_velocity; got 'psychic'"):
+        PlannerController(human_forecast="psychic")

@@ -277,14 +277,24 @@ def _swept_circles(centres: np.ndarray, radius: float) -> np.ndarray:
     return np.stack([lo, hi], axis=2)
 
 
+HUMAN_FORECASTS = ("model", "constant_velocity")
+"""how ``PlannerController`` forecasts the pedestrians"""
+
+
 class PlannerController:
     """Drives a task with a ``StatePlanner`` built for each episode's world (``run_episodes``'s
     controller): it reads the task's ``world`` and ``snapshot`` (the study's state vector, which
     ``snapshot.state_vector()`` gives in every task, and the robot's heading)."""
 
-    def __init__(self, human_margin: float = 0.0, **planner_kwargs):
+    def __init__(self, human_margin: float = 0.0, human_forecast: str = "model", **planner_kwargs):
         if isinstance(human_margin, bool) or not isinstance(human_margin, (int, float)) or not 0 <= human_margin <= 1:
             raise ValueError(f"human_margin must be a distance in [0, 1] m; got {human_margin!r}")
+        if human_forecast not in HUMAN_FORECASTS:
+            raise ValueError(f"human_forecast must be one of {', '.join(HUMAN_FORECASTS)}; got {human_forecast!r}")
+        self.human_forecast = human_forecast
+        """"model": where the pedestrians' own model walks them (``NavEnv.pedestrian_forecast``, the full
+        state); "constant_velocity": each keeps its last step's velocity (what the egocentric state tells)"""
+        self._last_humans = None
         self.human_margin = float(human_margin)
         """personal space (m) the plans keep from every pedestrian beyond the robot's clearance, where a
         plan with it exists (CrowdNav's discomfort counts a human within 0.2 m of the robot's edge)"""
@@ -298,6 +308,16 @@ class PlannerController:
             self.planner = StatePlanner(env.world, forward_step=drive.forward_step, turn_step=drive.turn_step,
                                         reach_radius=env.reach_radius, **self.planner_kwargs)
         self.planner.reset()
+        self._last_humans = None
+
+    def _humans_ahead(self, env) -> np.ndarray:
+        """(horizon + 1, n, 2): the pedestrians' centres over the planner's horizon (``human_forecast``)."""
+        if self.human_forecast == "model":
+            return env.pedestrian_forecast(self.planner.horizon)
+        now = np.asarray(env.snapshot.human_xy, float).reshape(-1, 2)
+        step = np.zeros_like(now) if self._last_humans is None else now - self._last_humans
+        self._last_humans = now
+        return now[None] + np.arange(self.planner.horizon + 1)[:, None, None] * step[None]
 
     def act(self, env) -> int:
         """The planner's action for the task's current snapshot (and, among pedestrians, their
@@ -306,7 +326,7 @@ class PlannerController:
         walkers = env.world.pedestrians
         if walkers is None or not walkers.count:
             return self.planner.act(s.state_vector(), s.pose[2])
-        forecast = env.pedestrian_forecast(self.planner.horizon)
+        forecast = self._humans_ahead(env)
         if self.human_margin > 0:
             action = self.planner.act(s.state_vector(), s.pose[2], forecast, walkers.radius + self.human_margin,
                                       boxed_in=None)
@@ -349,6 +369,10 @@ class Args:
     human_margin: float = 0.0
     """personal space (m) kept from every pedestrian where a plan with it exists; its --out entries are
     named state_planner_margin<M>/..."""
+    human_forecast: str = "model"
+    """the pedestrians' future: "model" (their own model, the full state) or "constant_velocity" (each
+    keeps its last step's velocity, what a navigator reading the egocentric state knows); the latter's
+    --out entries are named state_planner_cv..."""
     out: Optional[str] = None
     """also write each task's success, collision and timeout rates into this JSON file (merged
     with what it holds, one entry per task), e.g. docs/results/ceilings.json for agents.study.report;
@@ -361,8 +385,9 @@ def main(args: Args) -> None:
     from dynnav_tasks.baselines.cli import run_over_cells, run_over_tasks
 
     planner = dict(max_expansions=args.max_expansions, remember=not args.memoryless, tracked=args.tracked,
-                   human_margin=args.human_margin)
+                   human_margin=args.human_margin, human_forecast=args.human_forecast)
     name = "state_planner" + (f"_tracked{args.tracked}" if args.tracked else "") + (
+        "_cv" if args.human_forecast == "constant_velocity" else "") + (
         f"_margin{args.human_margin:g}" if args.human_margin else "")
     if args.task in PROCEDURAL_TASK_IDS:
         run_over_cells(args.task, args.difficulty, args.split, args.episodes, args.first_seed,
