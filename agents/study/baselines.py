@@ -93,10 +93,13 @@ def _learner(experiment: str) -> str:
 
 
 def _controller_name(controller: str) -> str:
-    """The table's name of a scripted controller's entry (``state_planner_margin0.2``: the planner keeping
-    0.2 m of personal space)."""
+    """The table's name of a scripted controller's entry (``state_planner_cv_margin0.2``: the planner
+    forecasting the pedestrians at constant velocity and keeping 0.2 m of personal space)."""
     base, _, margin = controller.partition("_margin")
+    base, cv = base.removesuffix("_cv"), base.endswith("_cv")
     name = CONTROLLERS.get(base, base.replace("_", " "))
+    if cv:
+        name = "planner (discrete drive) forecasting the pedestrians at constant velocity (what the DQN reads)"
     return f"{name}, {margin} m personal space" if margin else name
 
 
