@@ -206,6 +206,15 @@ def test_the_crowd_table_sets_the_learned_navigator_beside_the_scripted_robots_a
     assert "[humans=5,scenario=circle_crossing]" in text and "| 1 x 500 | 50.0% | 50.0% |" in robot
     assert "| 0.200 | 0.600 | 0.01 | 12.5 |" in robot
     assert crowd_section([_row("5.3", 1, 0.9)], {}) == []  # no crowd: no section
+    # each row says how it learned, and each planner what it knows and how far it keeps
+    taught = [dict(r, experiment=r["experiment"] + suffix) for r in rows for suffix in ("-dagger", "-finetune")]
+    planners = {f"{who}/DynNav-Crowd-v1 [humans=5,scenario=circle_crossing]": robots[next(iter(robots))]
+                for who in ("state_planner_margin0.2", "state_planner_cv")}
+    text = "\n".join(crowd_section(rows + taught, planners))
+    assert "| `circle-crossing` (DQN) |" in text and "| `circle-crossing-dagger` (behaviour cloning + DAgger) |" in text
+    assert "| `circle-crossing-finetune` (Double DQN from the student, DQfD) |" in text
+    assert "| full-state planner (discrete drive, forecasts the pedestrians), 0.2 m personal space |" in text
+    assert "forecasting the pedestrians at constant velocity (what the DQN reads) |" in text
 
 
 def test_dwa_stands_beside_the_planner_in_each_study_world_it_ran_in():
