@@ -148,6 +148,11 @@ def test_a_card_is_a_row_of_its_suite_under_the_references(tmp_path):
     card = json.loads(out.read_text())
     assert f"## {TASK}" in page and "| full-state planner (the ceiling) |" in page
     assert f"| `bench_policies:toward_target` | {card['cells'][0]['success']:.0%} |" in page
+    named = tmp_path / "cards" / "named.json"  # --name names the row
+    main(["--policy", "bench_policies:toward_target", "--task", TASK, "--episodes", "3", "--workers", "0",
+          "--name", "turn and drive", "--out", str(named), "--no-progress"])
+    assert f"| turn and drive | {card['cells'][0]['success']:.0%} |" in render(read_cards(out.parent))
+    assert named.with_suffix(".md").read_text().startswith(f"# turn and drive on {TASK}")
 
 
 def test_navigators_on_either_drive_share_a_column_and_the_row_names_the_drive(tmp_path):

@@ -56,9 +56,10 @@ def references(cell: Cell) -> dict:
 
 
 def make_card(policy: str, algo: Optional[str], suite: str, cells: list[Cell], scores: list[dict],
-              command: str) -> dict:
-    """The score card as a JSON-ready dict."""
-    return dict(dynnav_version=version(), command=command, policy=policy, algo=algo, suite=suite,
+              command: str, name: Optional[str] = None) -> dict:
+    """The score card as a JSON-ready dict; ``name``: the navigator's name on the leaderboard (default: the
+    policy spec)."""
+    return dict(dynnav_version=version(), command=command, name=name or policy, policy=policy, algo=algo, suite=suite,
                 cells=[dict(task=c.task, options=c.options, name=c.name, first_seed=c.first_seed, **s,
                             references=references(c)) for c, s in zip(cells, scores)])
 
@@ -72,7 +73,7 @@ def markdown(card: dict) -> str:
     social = any("social" in c for c in card["cells"])
     head = ["task", "episodes", "success (95% CI)", "collision", "timeout", "SPL", "planner", "go to target"]
     head += [h for _, h, _ in SOCIAL] if social else []
-    lines = [f"# {card['policy']} on {card['suite']}", "",
+    lines = [f"# {card.get('name') or card['policy']} on {card['suite']}", "",
              f"`{card['command']}` (dynnav {card['dynnav_version']})", "",
              "| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for c in card["cells"]:

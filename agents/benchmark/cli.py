@@ -34,6 +34,8 @@ class Args:
     """episodes per cell instead of the suite's (the card says so; a published card keeps the suite's)"""
     workers: int = 2
     """processes that play the episodes (0: this one)"""
+    name: Optional[str] = None
+    """the navigator's name on the card and the leaderboard, e.g. "PPO, progress reward" (default: --policy)"""
     out: Optional[Path] = None
     """the score card's JSON (its Markdown goes beside it); default runs/benchmark/<suite>__<policy>.json"""
     progress: bool = True
@@ -88,7 +90,8 @@ def main(argv: Optional[list[str]] = None) -> None:
         scores = [score(r) for r in records]
     except BenchmarkError as err:
         raise SystemExit(f"error: {err}")
-    card = make_card(args.policy, args.algo, suite, cells, scores, shlex.join(["dynnav-benchmark", *argv]))
+    card = make_card(args.policy, args.algo, suite, cells, scores, shlex.join(["dynnav-benchmark", *argv]),
+                     args.name)
     json_path, md_path = write_card(card, out)
     print(markdown(card))
     print(f"score card: {json_path}, {md_path}")

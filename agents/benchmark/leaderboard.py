@@ -2,8 +2,8 @@
 
     python -m agents.benchmark.leaderboard [--cards results/scorecards] [--out docs/leaderboard.md]
 
-One table per suite (or single task): a row per score card, a column per cell, each the card's
-success rate; above them the references the cards carry (the full-state planner, the
+One table per suite (or single task): a row per score card (named by its ``--name``, else its
+policy spec), a column per cell, each the card's success rate; above them the references the cards carry (the full-state planner, the
 go-to-target floor). Cards are small JSON files that ``dynnav-benchmark --out`` writes; run
 folders are never read. The same cards give the same page byte for byte.
 """
@@ -44,7 +44,8 @@ def _pct(v) -> str:
 
 
 def _label(name: str) -> str:
-    return name.removeprefix("DynNav-Procedural-v1 ").removeprefix("DynNav-").strip("[]")
+    name = name.removeprefix("DynNav-Procedural-v1 ").removeprefix("DynNav-")
+    return name[1:-1] if name.startswith("[") else name
 
 
 DRIVE = "control_mode"
@@ -89,7 +90,8 @@ def render(cards: list[dict]) -> str:
         for card in sorted(group, key=lambda c: -sum(x["success"] for x in c["cells"])):
             rates = {_column(c): c["success"] for c in card["cells"]}
             algo = f" ({card['algo']})" if card.get("algo") else ""
-            lines.append(f"| `{card['policy']}`{algo}{_drive(card)} | " + " | ".join(_pct(rates.get(n)) for n in names) + " |")
+            who = card["name"] if card.get("name", card["policy"]) != card["policy"] else f"`{card['policy']}`"
+            lines.append(f"| {who}{algo}{_drive(card)} | " + " | ".join(_pct(rates.get(n)) for n in names) + " |")
         lines.append("")
     return "\n".join(lines).rstrip("\n") + "\n"
 
