@@ -70,7 +70,10 @@ def render(cards: list[dict]) -> str:
              "Success rates of navigators scored by `dynnav-benchmark` (docs/benchmark.md) on fixed suites: the "
              "same tasks, seeds and episode counts for every row. Each row is a score card in `results/scorecards/` "
              "(its JSON and Markdown hold every rate's 95% interval, SPL, the social metrics and the exact command); "
-             "`python -m agents.benchmark.leaderboard` makes this page from them.", ""]
+             "`python -m agents.benchmark.leaderboard` makes this page from them. The rows above the cards' are the "
+             "references the cards carry, measured by each controller's own command on its own episodes "
+             "(`docs/results/`); a `controller:NAME` row is a scripted controller scored by the benchmark on the "
+             "suite's seeds.", ""]
     suites: dict[str, list[dict]] = {}
     for card in cards:
         suites.setdefault(card["suite"], []).append(card)
