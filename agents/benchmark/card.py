@@ -47,7 +47,7 @@ def references(cell: Cell) -> dict:
         key = f"{cell.options['difficulty']}/{cell.options['split']}"
         get = lambda who: (cells.get(f"{who}/{key}") or {}).get("success")  # noqa: E731
         return dict(planner=get("state_planner"), go_to_target=get("go_to_target"), **{w: get(w) for w in SCRIPTED})
-    name = Cell(cell.task, {k: v for k, v in cell.options.items() if k != "control_mode"}).name  # each its own drive
+    name = cell.task_name  # each reference on its own drive
     scripted = _json("baselines.json")
     get = lambda who: (scripted.get(f"{who}/{name}") or {}).get("success")  # noqa: E731
     ceiling = _json("ceilings.json").get(name)

@@ -14,8 +14,8 @@ import argparse
 import json
 from pathlib import Path
 
+from agents.benchmark.suites import DRIVE, Cell
 from agents.files import atomic_write_bytes
-from dynnav_tasks.task_options import options_name
 
 ROOT = Path(__file__).resolve().parents[2]
 CARDS = ROOT / "results" / "scorecards"
@@ -48,14 +48,9 @@ def _label(name: str) -> str:
     return name[1:-1] if name.startswith("[") else name
 
 
-DRIVE = "control_mode"
-"""the option that chooses the drive: part of the navigator (its row), not of the cell (its column)"""
-
-
 def _column(cell: dict) -> str:
-    """A cell's column: its task and options but the drive, so that navigators on either drive share it."""
-    options = {k: v for k, v in cell.get("options", {}).items() if k != DRIVE}
-    return f"{cell['task']} [{options_name(options)}]" if options else cell["task"]
+    """A card cell's column (``Cell.task_name``: navigators on either drive share it)."""
+    return Cell(cell["task"], cell.get("options", {})).task_name
 
 
 def _drive(card: dict) -> str:

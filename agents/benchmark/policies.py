@@ -149,7 +149,7 @@ class PolicySpec:
 
     def _open_controller(self, task: str, options: dict) -> Actor:
         import dynnav_tasks
-        from dynnav_tasks.baselines.registry import control_mode_of
+        from dynnav_tasks.baselines.episodes import control_mode_of
 
         controller = self._controller()
         made = {**options, **self.options}

@@ -23,6 +23,8 @@ FIRST_SEED = 1_000_000
 EPISODES = 100
 """episodes of a cell unless its suite says otherwise"""
 CROWD = dict(scenario="circle_crossing", humans=5, on_arrival="stop")
+DRIVE = "control_mode"
+"""the option that chooses the drive: the navigator's, not the cell's (``Cell.task_name``)"""
 
 
 @dataclass(frozen=True)
@@ -38,6 +40,12 @@ class Cell:
     def name(self) -> str:
         """``task`` or ``task [key=value,...]``."""
         return f"{self.task} [{options_name(self.options)}]" if self.options else self.task
+
+    @property
+    def task_name(self) -> str:
+        """``name`` without the drive option: what the references are measured on (each on its own drive) and
+        the leaderboard's column, shared by navigators on either drive."""
+        return Cell(self.task, {k: v for k, v in self.options.items() if k != DRIVE}).name
 
     @property
     def seeds(self) -> range:

@@ -28,6 +28,8 @@ CROWDNAV = [("ORCA", 0.43), ("CADRL", 0.78), ("LSTM-RL", 0.95), ("SARL", 0.99)]
 them (Chen et al. 2019, "Crowd-Robot Interaction", Table I; a holonomic robot at 1 m/s among
 humans at 1 m/s, 500 test episodes)"""
 CONTROLLERS = {"state_planner": "full-state planner (discrete drive, forecasts the pedestrians)",
+               "state_planner_cv": "planner (discrete drive) forecasting the pedestrians at constant velocity "
+                                   "(what the DQN reads)",
                "orca_robot": "ORCA robot", "social_force_robot": "social-force robot", "dwa": "DWA (laser scan)"}
 """the scripted controllers' names in the table"""
 METRICS = [("success", "success"), ("collision", "collision"), ("timeout", "timeout"),
@@ -96,10 +98,7 @@ def _controller_name(controller: str) -> str:
     """The table's name of a scripted controller's entry (``state_planner_cv_margin0.2``: the planner
     forecasting the pedestrians at constant velocity and keeping 0.2 m of personal space)."""
     base, _, margin = controller.partition("_margin")
-    base, cv = base.removesuffix("_cv"), base.endswith("_cv")
     name = CONTROLLERS.get(base, base.replace("_", " "))
-    if cv:
-        name = "planner (discrete drive) forecasting the pedestrians at constant velocity (what the DQN reads)"
     return f"{name}, {margin} m personal space" if margin else name
 
 

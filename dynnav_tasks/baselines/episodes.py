@@ -45,6 +45,11 @@ class Controller(Protocol):
         """The action to take in the task's current state."""
 
 
+def control_mode_of(controller) -> str:
+    """The drive ``controller`` commands (the discrete drive unless it says otherwise)."""
+    return getattr(controller, "control_mode", DISCRETE_DRIVE)
+
+
 @dataclass(frozen=True)
 class Episode:
     """One episode's end: its outcome, steps, metres driven, shortest way (m) and SPL term."""
@@ -129,7 +134,7 @@ def run_episodes(label: str, task_id: str, seeds, controller: Controller, progre
     ``options`` go to every reset (e.g. ``{"world": w}`` for a procedural task)."""
     from dynnav_tasks import NumpyWrapper, make
 
-    mode, given = getattr(controller, "control_mode", DISCRETE_DRIVE), task_kwargs.get("control_mode", DISCRETE_DRIVE)
+    mode, given = control_mode_of(controller), task_kwargs.get("control_mode", DISCRETE_DRIVE)
     if given != mode:
         what = "chooses among the three discrete actions" if mode == DISCRETE_DRIVE else "commands velocities"
         raise ValueError(f"{label}'s controller {what}: make the task with control_mode={mode!r}, not {given!r}")

@@ -11,14 +11,13 @@
 ======================  =========================================================================
 
 Each is a ``run_episodes`` controller (``episodes.Controller``): ``start(env)`` after every
-reset, ``act(env)`` reading the task's public state, and ``control_mode``, the drive it commands.
+reset, ``act(env)`` reading the task's public state, and ``control_mode``, the drive it commands
+(``episodes.control_mode_of``).
 """
 
 from __future__ import annotations
 
 from typing import Callable
-
-from dynnav_tasks.drive import DISCRETE_DRIVE
 
 
 def _planner():
@@ -59,8 +58,3 @@ def make_controller(name: str):
     if name not in CONTROLLERS:
         raise ValueError(f"no scripted controller {name!r}; the controllers: {', '.join(CONTROLLERS)}")
     return CONTROLLERS[name]()
-
-
-def control_mode_of(controller) -> str:
-    """The drive ``controller`` commands (the discrete drive unless it says otherwise)."""
-    return getattr(controller, "control_mode", DISCRETE_DRIVE)
