@@ -90,7 +90,7 @@ def test_observation_scaling_uses_the_space_bounds():
     import gymnasium as gym
     import numpy as np
 
-    from agents.training.envs import ObsScaler
+    from agents.core.obs_scaling import ObsScaler
 
     space = gym.spaces.Box(np.array([0.0, -2.0, -np.inf], np.float32), np.array([5.0, 4.5, np.inf], np.float32))
     scale = ObsScaler(space)

@@ -13,6 +13,8 @@ from torch import nn
 
 from agents.core.encoders import EgocentricQNetwork
 from agents.core.learner import DQNLearner
+from agents.core.lookahead import LookaheadQNetwork
+from agents.core.obs_scaling import ObsScaler
 from agents.core.networks import MLPQNetwork, PixelQNetwork, check_q_network, load_factory, q_values_of
 from agents.core.recurrent import RecurrentLearner, RecurrentQNetwork
 from agents.core.replay import Batch
@@ -34,6 +36,9 @@ def build_q_network(config, input_specs, n_actions: int) -> nn.Module:
     if config.dqn.q_network:
         module = load_factory(config.dqn.q_network)(shapes, n_actions)
         source = f"q_network {config.dqn.q_network!r}"
+    elif config.dqn.lookahead:
+        module = lookahead_network(config, shapes, n_actions)
+        source = "the look-ahead Q-network"
     elif (config.dqn.laser_encoder, config.dqn.obstacle_encoder) != ("flat", "flat"):
         module = egocentric_network(config, shapes, n_actions)
         source = "the egocentric Q-network"
@@ -58,6 +63,44 @@ def egocentric_network(config, shapes, n_actions: int) -> EgocentricQNetwork:
     return EgocentricQNetwork(shapes[0][0], n_actions, d.hidden_sizes, lasers=int(kwargs.get("laser_rays", NUM_LASERS)),
                               obstacle_k=int(kwargs.get("obstacle_k", DEFAULT_OBSTACLE_K)),
                               laser_encoder=d.laser_encoder, obstacle_encoder=d.obstacle_encoder)
+
+
+def lookahead_network(config, shapes, n_actions: int) -> LookaheadQNetwork:
+    """The ``LookaheadQNetwork`` of a run: the task's laser ring, pedestrian slots and drive from its task
+    options (the task's defaults when not given); ValueError unless the state is ``lasers | target |
+    odometry | humans`` and the drive the discrete one."""
+    from dynnav_tasks.drive import DISCRETE_DRIVE
+    from dynnav_tasks.egocentric import egocentric_space
+    from dynnav_tasks.lasers import LaserConfig
+    from dynnav_tasks.robot import DriveConfig
+    from dynnav_tasks.tasks.crowd import DEFAULT_HUMAN_K
+    from dynnav_tasks.tasks.procedural import DEFAULT_OBSTACLE_K
+
+    kw, crowd = config.env.task_kwargs, config.task == "DynNav-Crowd-v1"
+    human_k = int(kw.get("human_k", DEFAULT_HUMAN_K if crowd else 0))
+    obstacle_k = 0 if crowd else int(kw.get("obstacle_k", DEFAULT_OBSTACLE_K))
+    if (kw.get("odometry") is not True or kw.get("way") or obstacle_k or human_k < 1
+            or kw.get("control_mode", DISCRETE_DRIVE) != DISCRETE_DRIVE):
+        raise ValueError(f"lookahead reads the egocentric state lasers | target | odometry | pedestrians with the "
+                         f"discrete drive: set the task options odometry=True and human_k >= 1, and no way, no "
+                         f"obstacle slots (obstacle_k=0), no control_mode; this run has {dict(kw)}")
+    lasers = LaserConfig.of(kw.get("laser_rays", LaserConfig.rays), kw.get("laser_fov_deg", LaserConfig.fov_deg),
+                            kw.get("laser_range", LaserConfig.max_range))
+    if not lasers.full_circle:
+        raise ValueError(f"lookahead turns the laser ring with the robot: it needs the full ring (laser_fov_deg=360), "
+                         f"not {lasers.fov_deg:g} degrees")
+    drive = DriveConfig(**{name: kw[name] for name in ("forward_step", "turn_step", "turn_forward_step") if name in kw})
+    moves = [(drive.forward_step, 0.0), (drive.turn_forward_step, drive.turn_step),
+             (drive.turn_forward_step, -drive.turn_step)]
+    if n_actions != len(moves):
+        raise ValueError(f"lookahead scores the discrete drive's {len(moves)} actions; this run has {n_actions}")
+    space = egocentric_space(lasers.rays, lasers.max_range, 0, human_k=human_k, odometry=True)
+    if shapes != [space.shape]:
+        raise ValueError(f"lookahead expects one state of {space.shape[0]} values (lasers, target, odometry, "
+                         f"{human_k} pedestrians); this run's inputs have shapes {shapes}")
+    scaler = ObsScaler(space, config.env.normalize_obs)
+    return LookaheadQNetwork(moves, lasers.angles().tolist(), lasers.max_range, human_k, config.dqn.hidden_sizes,
+                             scaler.offset.tolist(), scaler.scale.tolist())
 
 
 def build_learner(config, q_network: nn.Module, input_specs) -> DQNLearner:

@@ -53,8 +53,8 @@ NOT_HASHED = {"name": None, "description": None, "seed": None, "run": None,
 """config fields left out of the config hash (None: the whole field or group)"""
 MEMORY_FIELDS = ("recurrent", "recurrent_size", "sequence_length", "burn_in")
 """dqn fields of the recurrent Q-network, hashed only when ``recurrent`` is set"""
-FLAT_ENCODERS = {"laser_encoder": "flat", "obstacle_encoder": "flat"}
-"""dqn fields of the egocentric encoders, hashed only when not flat"""
+FLAT_ENCODERS = {"laser_encoder": "flat", "obstacle_encoder": "flat", "lookahead": False}
+"""dqn fields of the egocentric encoders and the look-ahead, hashed only when not flat (off)"""
 TEACHER_PATHS = ("init_from", "demonstrations")
 """demos fields that name another run: hashed as whether they are set (each seed's teacher has its own
 folder); the demos group is hashed only when one is set"""

@@ -79,6 +79,10 @@ class DQNConfig:
     obstacle_encoder: Literal["flat", "pooled"] = "flat"
     """egocentric state: pooled reads the tracked obstacles with one shared MLP and a max over them, whatever
     their order; flat: as they are"""
+    lookahead: bool = False
+    """look one step ahead (agents/core/lookahead.py, CrowdNav's value look-ahead): Q(s, a) is a value network's
+    reading of the state action a leads to, the robot moved by the drive and each pedestrian at its last velocity;
+    needs the discrete drive and the egocentric state with odometry=True and human_k >= 1 (no way, no obstacle slots)"""
     recurrent: Optional[Literal["gru", "lstm"]] = None
     """memory (docs/memory.md): gru or lstm puts that recurrent layer (recurrent_size) between an MLP encoder
     (hidden_sizes) and the Q head, its state carried through each episode, and trains on stored sequences of
@@ -401,6 +405,10 @@ def validate_demos(c: Config) -> None:
                                                                       or c.env.state_frames != 1):
         raise ValueError("laser_encoder and obstacle_encoder read one egocentric state vector: not with q_network, "
                          "recurrent, camera_frames or state_frames > 1")
+    if d.lookahead and (d.q_network or d.recurrent or c.camera.camera_frames or c.env.state_frames != 1
+                        or (d.laser_encoder, d.obstacle_encoder) != ("flat", "flat")):
+        raise ValueError("lookahead builds its own Q-network on one egocentric state vector: not with q_network, "
+                         "recurrent, laser_encoder, obstacle_encoder, camera_frames or state_frames > 1")
     if (t.init_from or t.demonstrations) and (c.dqn.recurrent or c.camera.camera_frames or c.env.state_frames != 1):
         raise ValueError("init_from and demonstrations start from a student that reads one state vector: not with "
                          "recurrent, camera_frames or state_frames > 1")

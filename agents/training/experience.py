@@ -27,11 +27,12 @@ from typing import Optional
 
 import numpy as np
 
-from agents.training.envs import ObsScaler, frame_key, state_slices
 from agents.core.frame_replay import FrameReplay
+from agents.core.obs_scaling import ObsScaler
 from agents.core.replay import ReplayMemory
 from agents.core.sequence_replay import sample_sequences_into
 from agents.srl.state_representation import SRLSettings, StateRepresentation
+from agents.training.envs import frame_key, state_slices
 
 
 def state_part_indices(layout: list[tuple[str, int]], names) -> np.ndarray:

@@ -10,7 +10,7 @@ A model's folder holds
   encoder (float16; the decoder serves training and pictures only, and is left out) and the
   latent standardisation (``StateRepresentation.encoder_weights``);
 * ``config.yaml``: the run's fully resolved config, from which the task, the features (the
-  observation scaling is the task's, ``agents.training.envs.ObsScaler``) and the networks are
+  observation scaling is the task's, ``agents.core.obs_scaling.ObsScaler``) and the networks are
   built again;
 * ``card.md``: what the model is and what it measured (``agents.pretrained.card``).
 

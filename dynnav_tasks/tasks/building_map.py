@@ -33,7 +33,8 @@ class MapEnv(EgocentricTask, NavEnv):
       "orca" or "social_force"), blind to the robot
     * state (``obs_mode="state"``): the procedural task's egocentric state: the lasers | target
       distance, sin and cos of its bearing | with ``way=True`` the way to the target through the
-      map (length, sin and cos of the bearing of the point 0.5 m along it) | the ``obstacle_k``
+      map (length, sin and cos of the bearing of the point 0.5 m along it) | with ``odometry=True``
+      the robot's own last move | the ``obstacle_k``
       (default 4) nearest moving boxes | the ``human_k`` (default 0) nearest pedestrians; so a
       navigator of ``DynNav-Procedural-v1`` plays a building with the same options
     * both control modes: the discrete drive and ``control_mode="diff_drive_vel"``
@@ -54,8 +55,8 @@ class MapEnv(EgocentricTask, NavEnv):
                  target: Optional[Sequence[float]] = None, targets: int = 8, map_seed: int = 0,
                  target_distance: Sequence[float] = TARGET_DISTANCE, moving_obstacles: int = 0, pedestrians: int = 0,
                  pedestrian_model: str = "orca", obstacle_k: int = DEFAULT_OBSTACLE_K, way: bool = False,
-                 human_k: int = 0, **kwargs):
-        self.set_egocentric_options(obstacle_k, way, human_k)
+                 human_k: int = 0, odometry: bool = False, **kwargs):
+        self.set_egocentric_options(obstacle_k, way, human_k, odometry)
         self.map_path = str(map)
         """the occupancy map's YAML file"""
         self.world = world_from_map(self.map_path, start, target, targets=targets, seed=map_seed,

@@ -59,7 +59,8 @@ class CrowdEnv(EgocentricTask, NavEnv):
       ``see_robot`` (default False: the pedestrians do not see the robot, CrowdNav's invisible
       setting), ``on_arrival`` ("renew", default: an arrived pedestrian takes a new goal; "stop":
       it stays at its goal, as CrowdNav's humans do), ``human_k`` (pedestrian slots in the state,
-      default 5)
+      default 5), ``odometry`` (default False: with True the state holds the robot's own move over
+      the last step, after the target)
     * state (``obs_mode="state"``): the egocentric state (``egocentric.py``): the lasers | target
       distance, sin and cos of its bearing | for each of the ``human_k`` nearest pedestrians its
       x, y, vx, vy relative to the robot in the robot's frame and its radius; 19 + 5 ``human_k``
@@ -82,8 +83,9 @@ class CrowdEnv(EgocentricTask, NavEnv):
     world = crowd_world()
 
     def __init__(self, *args, scenario: str = "circle_crossing", humans: int = 5, model: str = "orca",
-                 see_robot: bool = False, on_arrival: str = "renew", human_k: int = DEFAULT_HUMAN_K, **kwargs):
-        self.set_egocentric_options(human_k=human_k)
+                 see_robot: bool = False, on_arrival: str = "renew", human_k: int = DEFAULT_HUMAN_K, odometry: bool = False,
+                 **kwargs):
+        self.set_egocentric_options(human_k=human_k, odometry=odometry)
         if not isinstance(see_robot, bool):
             raise ValueError(f"see_robot must be True or False; got {see_robot!r}")
         self.world = crowd_world(scenario, humans, model, see_robot, on_arrival)

@@ -83,6 +83,8 @@ class ProceduralEnv(EgocentricTask, NavEnv):
       info holds the social metrics. ``human_k`` (default 0) adds, after the obstacles, the
       k nearest pedestrians' relative x, y, vx, vy and radius (5 values each), as
       ``DynNav-Crowd-v1``'s state does
+    * ``odometry=True`` adds, after the target (and the way), the robot's own move over the last
+      step: ahead and left (m) in its heading, and the turn (rad)
     * ``obs_mode="rgb"`` and ``"rgb+state"``: the camera worlds' red marker stands on the
       target (the generator makes it visible from the start)
     * reward: as every task's; ``normalized_dense`` divides by the current world's bound
@@ -115,6 +117,7 @@ class ProceduralEnv(EgocentricTask, NavEnv):
         pedestrians: int = 0,
         pedestrian_model: str = "orca",
         human_k: int = 0,
+        odometry: bool = False,
         obs_mode: Optional[str] = None,
         **kwargs,
     ):
@@ -127,7 +130,7 @@ class ProceduralEnv(EgocentricTask, NavEnv):
         study_world = str(study_world) if isinstance(study_world, (int, float)) and not isinstance(study_world, bool) \
             else study_world
         self.study_world = check_choice(study_world, ("", *STUDY_WORLDS), "study_world") if study_world else ""
-        self.set_egocentric_options(obstacle_k, way, human_k)
+        self.set_egocentric_options(obstacle_k, way, human_k, odometry)
         if isinstance(pedestrians, bool) or not isinstance(pedestrians, numbers.Integral) \
                 or not 0 <= pedestrians <= generation.MAX_PEDESTRIANS:
             raise ValueError(f"pedestrians must be an integer from 0 to {generation.MAX_PEDESTRIANS}; got {pedestrians!r}")
