@@ -207,12 +207,13 @@ def test_the_crowd_table_sets_the_learned_navigator_beside_the_scripted_robots_a
     assert "| 0.200 | 0.600 | 0.01 | 12.5 |" in robot
     assert crowd_section([_row("5.3", 1, 0.9)], {}) == []  # no crowd: no section
     # each row says how it learned, and each planner what it knows and how far it keeps
-    taught = [dict(r, experiment=r["experiment"] + suffix) for r in rows for suffix in ("-dagger", "-finetune")]
+    taught = [dict(r, experiment=r["experiment"] + suffix) for r in rows for suffix in ("-dagger", "-finetune", "-lookahead")]
     planners = {f"{who}/DynNav-Crowd-v1 [humans=5,scenario=circle_crossing]": robots[next(iter(robots))]
                 for who in ("state_planner_margin0.2", "state_planner_cv")}
     text = "\n".join(crowd_section(rows + taught, planners))
     assert "| `circle-crossing` (DQN) |" in text and "| `circle-crossing-dagger` (behaviour cloning + DAgger) |" in text
     assert "| `circle-crossing-finetune` (Double DQN from the student, DQfD) |" in text
+    assert "| `circle-crossing-lookahead` (Double DQN, one-step look-ahead) |" in text
     assert "| full-state planner (discrete drive, forecasts the pedestrians), 0.2 m personal space |" in text
     assert "forecasting the pedestrians at constant velocity (what the DQN reads) |" in text
 

@@ -86,7 +86,10 @@ def _mean(values) -> float | None:
 
 def _learner(experiment: str) -> str:
     """How a crowd experiment learned, from its name: the imitation run's record ends in -dagger, the
-    reinforcement learning on top of it in -finetune (configs/crowd/, configs/imitation/)."""
+    reinforcement learning on top of it in -finetune, the look-ahead Q-network's in -lookahead
+    (configs/crowd/, configs/imitation/)."""
+    if experiment.endswith("-lookahead"):
+        return "Double DQN, one-step look-ahead"
     if experiment.endswith("-dagger"):
         return "behaviour cloning + DAgger"
     if experiment.endswith("-finetune"):
