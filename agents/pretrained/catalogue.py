@@ -17,6 +17,9 @@ their cards test the very networks of the table's rows.
 ``procedural`` is the generalist (docs/generalist.md): the reinforcement-learning fine-tune of a
 student cloned from the planner, so its run needs the same seed's imitation run first
 (``Source.before``); it trains in the fast mode, as its row was.
+
+``crowd`` is the look-ahead Double DQN among 5 pedestrians crossing a circle (docs/crowds.md, *A
+look-ahead over the value*), its row's best seed; it trains in the fast mode, as its row was.
 """
 
 from __future__ import annotations
@@ -85,6 +88,7 @@ CELLS: dict[str, Source] = {
     "procedural": Source("generalist-finetune", 1, 0.76, 540, folder="procedural", fast=True,
                          before="python -m agents.imitation --config configs/imitation/generalist.yaml --seed 1",
                          tested_on="difficulty=medium,split=test"),
+    "crowd": Source("circle-crossing-lookahead", 1, 0.946, 1442, folder="crowd", fast=True),
 }
 """cell -> the run its model is trained as"""
 
