@@ -16,6 +16,7 @@ from agents.training.config import validate
 from agents.training.config_io import make
 from dynnav_tasks.egocentric import FAR, egocentric_layout
 from dynnav_tasks.motion import Static
+from dynnav_tasks.nav_env import ROBOT_RADIUS
 from dynnav_tasks.world import Arena, StartArea, World
 
 FORWARD, LEFT, RIGHT = 0, 1, 2
@@ -28,7 +29,7 @@ def raw_network(human_k=2) -> LookaheadQNetwork:
     """A look-ahead network that reads raw (unscaled) states."""
     width = 16 + 6 + 5 * human_k
     torch.manual_seed(0)
-    return LookaheadQNetwork(MOVES, ANGLES, 5.0, human_k, (32,), [0.0] * width, [1.0] * width).eval()
+    return LookaheadQNetwork(MOVES, ANGLES, 5.0, ROBOT_RADIUS, human_k, (32,), [0.0] * width, [1.0] * width).eval()
 
 
 def state(humans) -> torch.Tensor:
@@ -64,7 +65,7 @@ def test_the_afterstates_move_the_robot_by_each_action_and_the_pedestrians_at_co
 
 
 def test_an_arc_moves_the_robot_along_its_chord():
-    net = LookaheadQNetwork([(0.1, TURN)], ANGLES, 5.0, 1, (8,), [0.0] * 27, [1.0] * 27)
+    net = LookaheadQNetwork([(0.1, TURN)], ANGLES, 5.0, ROBOT_RADIUS, 1, (8,), [0.0] * 27, [1.0] * 27)
     robot, *_ = net.afterstates(state([EMPTY]))
     # an arc of 0.1 m turning pi/8: a chord of 2 (0.1 / (pi/8)) sin(pi/16) at pi/16 to the heading
     chord = 2 * 0.1 / TURN * math.sin(TURN / 2)

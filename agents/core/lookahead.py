@@ -32,8 +32,6 @@ from typing import Sequence
 import torch
 from torch import nn
 
-ROBOT_RADIUS = math.hypot(0.225, 0.185)
-"""m: the circle round the robot's footprint (``dynnav_tasks.nav_env.ROBOT_RADIUS``)"""
 HUMAN_SLOT = 5
 """values per pedestrian slot: x, y, vx, vy, radius"""
 EMBED = 64
@@ -64,11 +62,12 @@ class LookaheadQNetwork(nn.Module):
     """Q(s, a) = V(afterstate(s, a)) on the egocentric state ``lasers | target | odometry | humans``.
 
     ``moves``: (advance m, turn rad) of each action; ``laser_angles``: each ray's direction (rad, a
-    full ring); ``laser_range``: a free ray's reading; ``offset``, ``scale``: the DQN's input scaling
-    (raw = scaled / scale + offset)."""
+    full ring); ``laser_range``: a free ray's reading; ``robot_radius``: the circle round the robot's
+    footprint (m); ``offset``, ``scale``: the DQN's input scaling (raw = scaled / scale + offset)."""
 
     def __init__(self, moves: Sequence[tuple[float, float]], laser_angles: Sequence[float], laser_range: float,
-                 human_k: int, hidden_sizes: Sequence[int], offset: Sequence[float], scale: Sequence[float]):
+                 robot_radius: float, human_k: int, hidden_sizes: Sequence[int], offset: Sequence[float],
+                 scale: Sequence[float]):
         super().__init__()
         self.lasers, self.human_k = len(laser_angles), int(human_k)
         width = self.lasers + 6 + HUMAN_SLOT * self.human_k
@@ -79,7 +78,7 @@ class LookaheadQNetwork(nn.Module):
         self.register_buffer("angles", torch.tensor(laser_angles, dtype=torch.float32))
         self.register_buffer("offset", torch.tensor(offset, dtype=torch.float32))
         self.register_buffer("scale", torch.tensor(scale, dtype=torch.float32))
-        self.laser_range = float(laser_range)
+        self.laser_range, self.robot_radius = float(laser_range), float(robot_radius)
         spacing = 2 * math.pi / self.lasers
         self.shifts = [int(round(turn / spacing)) for _, turn in moves]
         """rays the ring turns by for each action"""
@@ -133,7 +132,7 @@ class LookaheadQNetwork(nn.Module):
         robot, lasers, people, present = self.afterstates(x)
         b, a = robot.shape[:2]
         centre = torch.sqrt(people[..., 0] ** 2 + people[..., 1] ** 2)
-        edge = centre - people[..., 4] - ROBOT_RADIUS
+        edge = centre - people[..., 4] - self.robot_radius
         scales = people.new_tensor([POSITION_SCALE, POSITION_SCALE, STEP_SCALE, STEP_SCALE, 0.3])
         features = torch.cat([people / scales, (centre / POSITION_SCALE)[..., None], edge[..., None]], dim=3)
         robot_in = robot / robot.new_tensor([POSITION_SCALE, 1, 1, STEP_SCALE, STEP_SCALE, 1])

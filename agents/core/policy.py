@@ -72,6 +72,7 @@ def lookahead_network(config, shapes, n_actions: int) -> LookaheadQNetwork:
     from dynnav_tasks.drive import DISCRETE_DRIVE
     from dynnav_tasks.egocentric import egocentric_space
     from dynnav_tasks.lasers import LaserConfig
+    from dynnav_tasks.nav_env import ROBOT_RADIUS
     from dynnav_tasks.robot import DriveConfig
     from dynnav_tasks.tasks.crowd import DEFAULT_HUMAN_K
     from dynnav_tasks.tasks.procedural import DEFAULT_OBSTACLE_K
@@ -99,8 +100,8 @@ def lookahead_network(config, shapes, n_actions: int) -> LookaheadQNetwork:
         raise ValueError(f"lookahead expects one state of {space.shape[0]} values (lasers, target, odometry, "
                          f"{human_k} pedestrians); this run's inputs have shapes {shapes}")
     scaler = ObsScaler(space, config.env.normalize_obs)
-    return LookaheadQNetwork(moves, lasers.angles().tolist(), lasers.max_range, human_k, config.dqn.hidden_sizes,
-                             scaler.offset.tolist(), scaler.scale.tolist())
+    return LookaheadQNetwork(moves, lasers.angles().tolist(), lasers.max_range, ROBOT_RADIUS, human_k,
+                             config.dqn.hidden_sizes, scaler.offset.tolist(), scaler.scale.tolist())
 
 
 def build_learner(config, q_network: nn.Module, input_specs) -> DQNLearner:
